@@ -1,0 +1,1 @@
+//! Suspension-bridge finite-element model.

@@ -1,0 +1,106 @@
+//! The contract between the FMI plumbing and a model.
+//!
+//! A model holds only its equations and data. The plumbing in this crate owns the FMI
+//! state machine, the logger, `catch_unwind`, GUID and fmuType checks, resource lookup and
+//! FMU-state handling, and calls into the model through [`FmuModel`].
+//!
+//! Value references are the model's own `u32` numbers (as listed in its
+//! `modelDescription.xml`). Only `Real` variables are needed by the project's models; the
+//! Integer/Boolean/String accessors default to "unknown value reference".
+
+use std::path::Path;
+
+/// Where the instance is in the FMI 2.0 Co-Simulation life cycle, as seen by the model
+/// when a variable is set (so it can enforce causality/variability rules).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// After `fmi2Instantiate`, before `fmi2EnterInitializationMode`.
+    Instantiated,
+    /// Between `fmi2EnterInitializationMode` and `fmi2ExitInitializationMode`.
+    Initialization,
+    /// After `fmi2ExitInitializationMode` (step mode).
+    Stepping,
+}
+
+/// Result of a successful communication step.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StepOutcome {
+    /// The step was completed; outputs are valid at `t + h`.
+    Ok,
+    /// The step could not be completed meaningfully (for example the model reached the end
+    /// of its data); the message is logged and `fmi2DoStep` returns `fmi2Discard`.
+    Discard(String),
+}
+
+/// Messages a model wants logged (category, text). The plumbing forwards them to the
+/// importer's logger callback with the `"%s"` format.
+pub trait Log {
+    fn log(&self, category: &str, message: &str);
+}
+
+/// A Co-Simulation model. `Clone` must produce an independent copy of the complete dynamic
+/// state (used for `fmi2GetFMUstate`); keep large immutable data behind `Arc` so cloning
+/// is cheap.
+pub trait FmuModel: Clone + Send + 'static {
+    /// Build the model from its resources folder (the `resources/` of the unpacked FMU,
+    /// as given by `fmuResourceLocation`). Errors name the file and the problem.
+    fn instantiate(resources: &Path, log: &dyn Log) -> Result<Self, String>;
+
+    /// The GUID this instance's binary and resources correspond to. The plumbing refuses
+    /// to instantiate when it differs from the GUID passed to `fmi2Instantiate`.
+    fn guid(&self) -> String;
+
+    /// `fmi2SetupExperiment`: start time and optional stop time.
+    fn setup_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Result<(), String> {
+        let _ = (start_time, stop_time);
+        Ok(())
+    }
+
+    /// `fmi2EnterInitializationMode`.
+    fn enter_initialization(&mut self) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// `fmi2ExitInitializationMode`: parameters are final; compute the initial state.
+    fn exit_initialization(&mut self) -> Result<(), String>;
+
+    /// Set a Real variable. The model rejects unknown references, values it cannot accept
+    /// (non-finite, out of range) and variables that may not be set in `phase`.
+    fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), String>;
+
+    /// Get a Real variable (any phase but `Instantiated`).
+    fn get_real(&mut self, vr: u32) -> Result<f64, String>;
+
+    fn set_integer(&mut self, vr: u32, _value: i32, _phase: Phase) -> Result<(), String> {
+        Err(format!("unknown Integer value reference {vr}"))
+    }
+    fn get_integer(&mut self, vr: u32) -> Result<i32, String> {
+        Err(format!("unknown Integer value reference {vr}"))
+    }
+    fn set_boolean(&mut self, vr: u32, _value: bool, _phase: Phase) -> Result<(), String> {
+        Err(format!("unknown Boolean value reference {vr}"))
+    }
+    fn get_boolean(&mut self, vr: u32) -> Result<bool, String> {
+        Err(format!("unknown Boolean value reference {vr}"))
+    }
+    fn set_string(&mut self, vr: u32, _value: &str, _phase: Phase) -> Result<(), String> {
+        Err(format!("unknown String value reference {vr}"))
+    }
+    fn get_string(&mut self, vr: u32) -> Result<String, String> {
+        Err(format!("unknown String value reference {vr}"))
+    }
+
+    /// Advance from `t` to `t + h` (one communication step). Inputs set before the call
+    /// are the values at `t + h`.
+    fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, String>;
+
+    /// `fmi2Reset`: back to the freshly instantiated state.
+    fn reset(&mut self) -> Result<(), String>;
+
+    /// Serialize the complete dynamic state (including parameters that may have been set).
+    fn serialize_state(&self) -> Vec<u8>;
+
+    /// Restore a state written by [`FmuModel::serialize_state`] (possibly by another
+    /// instance of the same FMU).
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String>;
+}

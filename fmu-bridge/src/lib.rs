@@ -1,0 +1,1 @@
+//! The bridge model as an FMI 2.0 Co-Simulation FMU.

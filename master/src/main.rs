@@ -1,0 +1,30 @@
+//! `tbi`: train–bridge interaction command line.
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "tbi", version, about = "Train–bridge dynamic interaction: monolithic solver, FMI 2.0 FMUs and co-simulation master")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run any FMI 2.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
+    Simulate(tbi::simulate::SimulateArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Simulate(args) => tbi::simulate::main(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("tbi: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! Track irregularities and wheel hunting.
