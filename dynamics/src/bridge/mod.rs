@@ -1,4 +1,56 @@
 //! The bridge as a modal model.
+pub mod modal;
 pub mod modes_file;
+pub mod simply_supported;
 
+pub use modal::{ModalBridge, Shapes};
 pub use modes_file::{Mode, ModeSet};
+pub use simply_supported::SimplySupported;
+
+impl ModeSet {
+    /// A modal bridge from the first `modes` modes of this set. Modes without a damping
+    /// ratio get `damping` (bending) or `damping_torsional` (labels starting with `T`).
+    /// The deck starts at the first node; shapes are interpolated through `order` nodes.
+    pub fn to_modal(
+        &self,
+        modes: usize,
+        damping: f64,
+        damping_torsional: f64,
+        e_m: f64,
+        h4_m: f64,
+        order: usize,
+    ) -> ModalBridge {
+        let modes = modes.min(self.modes.len());
+        let used = &self.modes[..modes];
+        let nn = self.x_m.len();
+        let mut values = Vec::with_capacity(nn * modes);
+        for j in 0..nn {
+            for m in used {
+                values.push([m.lateral[j], m.vertical[j], m.torsion[j]]);
+            }
+        }
+        ModalBridge {
+            x_start_m: self.x_m[0],
+            x_end_m: *self.x_m.last().expect("validated: at least two nodes"),
+            frequencies_hz: used.iter().map(|m| m.frequency_hz).collect(),
+            damping: used
+                .iter()
+                .map(|m| {
+                    m.damping_ratio.unwrap_or(if m.label.starts_with('T') {
+                        damping_torsional
+                    } else {
+                        damping
+                    })
+                })
+                .collect(),
+            labels: used.iter().map(|m| m.label.clone()).collect(),
+            e_m,
+            h4_m,
+            shapes: Shapes::Nodal {
+                x_m: self.x_m.clone(),
+                values,
+                order,
+            },
+        }
+    }
+}

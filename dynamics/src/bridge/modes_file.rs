@@ -68,7 +68,10 @@ impl ModeSet {
     pub fn validate(&self, origin: &Path) -> Result<(), InputError> {
         let n = self.x_m.len();
         if n < 2 {
-            return Err(InputError::file(origin, format!("needs at least 2 nodes, found {n}")));
+            return Err(InputError::file(
+                origin,
+                format!("needs at least 2 nodes, found {n}"),
+            ));
         }
         for (i, w) in self.x_m.windows(2).enumerate() {
             if !(w[1] > w[0]) || !w[0].is_finite() || !w[1].is_finite() {
@@ -91,7 +94,10 @@ impl ModeSet {
             if !(m.frequency_hz > 0.0 && m.frequency_hz.is_finite()) {
                 return Err(InputError::file(
                     origin,
-                    format!("mode {id}: frequency_hz = {} must be positive and finite", m.frequency_hz),
+                    format!(
+                        "mode {id}: frequency_hz = {} must be positive and finite",
+                        m.frequency_hz
+                    ),
                 ));
             }
             if let Some(z) = m.damping_ratio {
@@ -102,7 +108,11 @@ impl ModeSet {
                     ));
                 }
             }
-            for (name, v) in [("lateral", &m.lateral), ("vertical", &m.vertical), ("torsion", &m.torsion)] {
+            for (name, v) in [
+                ("lateral", &m.lateral),
+                ("vertical", &m.vertical),
+                ("torsion", &m.torsion),
+            ] {
                 if v.len() != n {
                     return Err(InputError::file(
                         origin,
@@ -126,7 +136,9 @@ impl ModeSet {
             .map_err(|e| InputError::file(path, format!("cannot read modes file: {e}")))?;
         let set = match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("json") => serde_json::from_str::<ModeSet>(&text)
-                .map_err(|e| InputError::line(path, e.line(), format!("malformed JSON modes file: {e}")))?,
+                .map_err(|e| {
+                    InputError::line(path, e.line(), format!("malformed JSON modes file: {e}"))
+                })?,
             _ => Self::parse_csv(&text, path)?,
         };
         set.validate(path)?;
@@ -172,7 +184,14 @@ impl ModeSet {
     /// Parse the CSV encoding; errors carry the 1-based line number.
     pub fn parse_csv(text: &str, path: &Path) -> Result<Self, InputError> {
         const HEADER: [&str; 8] = [
-            "mode", "label", "frequency_hz", "damping_ratio", "x_m", "lateral", "vertical", "torsion",
+            "mode",
+            "label",
+            "frequency_hz",
+            "damping_ratio",
+            "x_m",
+            "lateral",
+            "vertical",
+            "torsion",
         ];
         let mut header_seen = false;
         let mut x_m: Vec<f64> = Vec::new();
@@ -205,14 +224,26 @@ impl ModeSet {
             }
             let num = |col: usize| -> Result<f64, InputError> {
                 cells[col].parse::<f64>().map_err(|_| {
-                    InputError::line(path, line_no, format!("column `{}`: `{}` is not a number", HEADER[col], cells[col]))
+                    InputError::line(
+                        path,
+                        line_no,
+                        format!("column `{}`: `{}` is not a number", HEADER[col], cells[col]),
+                    )
                 })
             };
             let mode_id: usize = cells[0].parse().map_err(|_| {
-                InputError::line(path, line_no, format!("column `mode`: `{}` is not a positive integer", cells[0]))
+                InputError::line(
+                    path,
+                    line_no,
+                    format!("column `mode`: `{}` is not a positive integer", cells[0]),
+                )
             })?;
             let freq = num(2)?;
-            let damping = if cells[3].is_empty() { None } else { Some(num(3)?) };
+            let damping = if cells[3].is_empty() {
+                None
+            } else {
+                Some(num(3)?)
+            };
             let x = num(4)?;
             let (lat, ver, tor) = (num(5)?, num(6)?, num(7)?);
             if mode_id == modes.len() + 1 {
@@ -220,7 +251,11 @@ impl ModeSet {
                     return Err(InputError::line(
                         path,
                         line_no,
-                        format!("mode {} has {node} nodes, mode 1 has {}", modes.len(), x_m.len()),
+                        format!(
+                            "mode {} has {node} nodes, mode 1 has {}",
+                            modes.len(),
+                            x_m.len()
+                        ),
                     ));
                 }
                 modes.push(Mode {
@@ -262,7 +297,10 @@ impl ModeSet {
                 return Err(InputError::line(
                     path,
                     line_no,
-                    format!("mode {mode_id}: node {} at x_m = {x} does not match mode 1's nodes", node + 1),
+                    format!(
+                        "mode {mode_id}: node {} at x_m = {x} does not match mode 1's nodes",
+                        node + 1
+                    ),
                 ));
             }
             let m = modes.last_mut().expect("a mode was pushed");
@@ -277,9 +315,17 @@ impl ModeSet {
         if modes.len() > 1 && node != x_m.len() {
             return Err(InputError::file(
                 path,
-                format!("mode {} has {node} nodes, mode 1 has {}", modes.len(), x_m.len()),
+                format!(
+                    "mode {} has {node} nodes, mode 1 has {}",
+                    modes.len(),
+                    x_m.len()
+                ),
             ));
         }
-        Ok(ModeSet { format: FORMAT_TAG.to_string(), x_m, modes })
+        Ok(ModeSet {
+            format: FORMAT_TAG.to_string(),
+            x_m,
+            modes,
+        })
     }
 }

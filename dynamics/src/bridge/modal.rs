@@ -1,0 +1,178 @@
+//! The modal bridge: frequencies, damping ratios and mass-normalised deck mode shapes, and
+//! the map from modal coordinates to the motion of the rail under a wheelset.
+//!
+//! Deck motion at the shear centre (eq. 9): `Y_b = Σ φ_hⁿ qₙ`, `Z_b = Σ φ_vⁿ qₙ`,
+//! `θ_b = Σ φ_θⁿ qₙ`. The track lies at lateral offset `e` (+y) and height `h4` above the
+//! shear centre, so a rigid cross-section rotation moves it by `(h4 θ, e θ)` and the rail
+//! DOFs of a wheelset at `x` are (eq. 13, deck part)
+//!
+//! ```text
+//! u(x) = Ψ(x) q,   Ψ(x) row-wise = [ φ_h + h4 φ_θ ;  φ_θ ;  φ_v + e φ_θ ]   (3 × N_b)
+//! ```
+//!
+//! By virtual work the generalised force of a wheelset force `f = (F_y, M_x, F_z)` is
+//! `Ψ(x)ᵀ f` (eq. 12), which contains the torque `M_x + h4 F_y + e F_z` about the shear centre.
+//! Each mode obeys `q̈ₙ + 2ζₙωₙ q̇ₙ + ωₙ² qₙ = Fₙ` (eq. 10).
+//!
+//! Shapes are either analytic sine series (simply supported spans, exact at every x) or
+//! nodal values interpolated with Lagrange polynomials through the `order` nearest nodes
+//! (the paper's choice). Off the deck (`x` outside `[x_start, x_end]`) `Ψ = 0`: rigid ground.
+
+use serde::{Deserialize, Serialize};
+
+/// How the mode shapes are represented.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Shapes {
+    /// `φ(x) = a · sin(k π (x − x_start) / span)` per component, exact.
+    Sine {
+        span_m: f64,
+        /// Half-wave number k of each mode.
+        half_waves: Vec<u32>,
+        /// Amplitudes (lateral, vertical, torsion) of each mode.
+        amplitudes: Vec<[f64; 3]>,
+    },
+    /// Values at nodes, interpolated by Lagrange polynomials through `order` nodes.
+    Nodal {
+        x_m: Vec<f64>,
+        /// Node-major: `values[node * n_modes + mode] = (lateral, vertical, torsion)`.
+        values: Vec<[f64; 3]>,
+        order: usize,
+    },
+}
+
+/// A bridge reduced to its lowest modes (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModalBridge {
+    /// Position of the deck start along the track, m.
+    pub x_start_m: f64,
+    /// Position of the deck end along the track, m.
+    pub x_end_m: f64,
+    /// Natural frequencies, Hz.
+    pub frequencies_hz: Vec<f64>,
+    /// Modal damping ratios, –.
+    pub damping: Vec<f64>,
+    /// Mode labels (e.g. `V-S-1`).
+    pub labels: Vec<String>,
+    /// Track lateral offset from the shear centre `e`, m (+y).
+    pub e_m: f64,
+    /// Height of the wheelset reference point above the shear centre `h4`, m.
+    pub h4_m: f64,
+    pub shapes: Shapes,
+}
+
+impl ModalBridge {
+    pub fn n_modes(&self) -> usize {
+        self.frequencies_hz.len()
+    }
+
+    /// Circular frequencies ωₙ, rad/s.
+    pub fn omegas(&self) -> Vec<f64> {
+        self.frequencies_hz
+            .iter()
+            .map(|f| 2.0 * std::f64::consts::PI * f)
+            .collect()
+    }
+
+    /// Deck length, m.
+    pub fn length_m(&self) -> f64 {
+        self.x_end_m - self.x_start_m
+    }
+
+    pub fn on_deck(&self, x: f64) -> bool {
+        x >= self.x_start_m && x <= self.x_end_m
+    }
+
+    /// Deck shapes at the shear centre at `x`: `out[n] = (φ_h, φ_v, φ_θ)`. Returns false
+    /// (and zeros) off the deck.
+    pub fn deck_shapes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
+        let n = self.n_modes();
+        debug_assert_eq!(out.len(), n);
+        if !self.on_deck(x) {
+            out.iter_mut().for_each(|o| *o = [0.0; 3]);
+            return false;
+        }
+        match &self.shapes {
+            Shapes::Sine {
+                span_m,
+                half_waves,
+                amplitudes,
+            } => {
+                let theta = std::f64::consts::PI * (x - self.x_start_m) / span_m;
+                let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
+                // sin(kθ) by the Chebyshev recurrence sin((k+1)θ) = 2 cos θ sin(kθ) − sin((k−1)θ).
+                let mut sines = [0.0f64; 256];
+                let mut owned;
+                let s: &mut [f64] = if kmax < 256 {
+                    &mut sines[..=kmax]
+                } else {
+                    owned = vec![0.0; kmax + 1];
+                    &mut owned[..]
+                };
+                if kmax >= 1 {
+                    s[1] = theta.sin();
+                    let c2 = 2.0 * theta.cos();
+                    for k in 2..=kmax {
+                        s[k] = c2 * s[k - 1] - s[k - 2];
+                    }
+                }
+                for (i, o) in out.iter_mut().enumerate() {
+                    let sk = s[half_waves[i] as usize];
+                    let a = amplitudes[i];
+                    *o = [a[0] * sk, a[1] * sk, a[2] * sk];
+                }
+            }
+            Shapes::Nodal { x_m, values, order } => {
+                let (start, w) = lagrange_weights(x_m, *order, x);
+                out.iter_mut().for_each(|o| *o = [0.0; 3]);
+                for (j, wj) in w.iter().enumerate().take((*order).min(x_m.len())) {
+                    let row = &values[(start + j) * n..(start + j + 1) * n];
+                    for (o, v) in out.iter_mut().zip(row) {
+                        o[0] += wj * v[0];
+                        o[1] += wj * v[1];
+                        o[2] += wj * v[2];
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// Rail shapes Ψ at `x`: `out[n] = (φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` — the lateral, roll and
+    /// vertical rail motion per unit modal coordinate. Returns false (zeros) off the deck.
+    pub fn rail_shapes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
+        if !self.deck_shapes(x, out) {
+            return false;
+        }
+        for o in out.iter_mut() {
+            let [h, v, t] = *o;
+            *o = [h + self.h4_m * t, t, v + self.e_m * t];
+        }
+        true
+    }
+}
+
+/// Lagrange interpolation weights through `order` consecutive nodes around `x`.
+/// Returns the first node index and the weights (up to 8 nodes).
+pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
+    let n = xs.len();
+    let p = order.clamp(2, 8).min(n);
+    // interval i with xs[i] <= x < xs[i+1]
+    let i = match xs.binary_search_by(|v| v.partial_cmp(&x).expect("finite node positions")) {
+        Ok(i) => i.min(n - 2),
+        Err(i) => i.saturating_sub(1).min(n - 2),
+    };
+    let start = (i + 1).saturating_sub(p / 2).min(n - p);
+    let mut w = [0.0; 8];
+    for j in 0..p {
+        let xj = xs[start + j];
+        let mut l = 1.0;
+        for m in 0..p {
+            if m != j {
+                let xm = xs[start + m];
+                l *= (x - xm) / (xj - xm);
+            }
+        }
+        w[j] = l;
+    }
+    (start, w)
+}

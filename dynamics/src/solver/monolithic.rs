@@ -1,0 +1,449 @@
+//! The monolithic solver of eq. (14): bridge modes and all vehicles in one Newmark step.
+//!
+//! Unknowns: modal coordinates `q` (N_b) and the free DOFs `vᵢ` of every vehicle. Rail motion
+//! under wheelset w: `u_w = Ψ_w q + r_w`, `u̇_w = Ψ_w q̇ + ṙ_w`, `ü_w = Ψ_w q̈ + r̈_w` (eq. 13;
+//! `Ψ_w = Ψ(x_w(t))`, `r_w` irregularity plus hunting; as in the paper the convective terms
+//! of the moving contact point, `v Ψ′ q`, are not included). Substituting into the vehicle
+//! equations and into `q̈ + 2ζω q̇ + ω² q = Σ_w Ψ_wᵀ f_w` with the wheel force of eq. (6)
+//! gives eq. (14):
+//!
+//! ```text
+//! M_vv v̈ + C_vv v̇ + K_vv v + Σ_w (C_vw Ψ_w q̇ + K_vw Ψ_w q) = −Σ_w (K_vw r_w + C_vw ṙ_w)
+//! (I + Σ ΨᵀM_wΨ) q̈ + (2ζω + Σ ΨᵀC_wwΨ) q̇ + (ω² + Σ ΨᵀK_wwΨ) q + Σ Ψᵀ(C_wv v̇ + K_wv v)
+//!     = Σ Ψᵀ (P0 − M_w r̈ − C_ww ṙ − K_ww r)
+//! ```
+//!
+//! a symmetric system whose bridge block and coupling blocks change with the wheelset
+//! positions while the vehicle blocks stay constant.
+//!
+//! **Solution per step.** Newmark turns it into `K̂ x = b`. With the constant per-vehicle
+//! matrices `K̂_v = a0 M + a1 C + K` (Cholesky, once), `Ĝ = [K_vw,w + a1 C_vw,w]_w`
+//! (n × 3n_w) and `Ŵ = blockdiag(a0 M_w + a1 C_ww + K_ww)`, the vehicle unknowns are eliminated
+//! exactly (Schur complement) through the constant rail-space matrix
+//! `S = Ŵ − Ĝᵀ K̂_v⁻¹ Ĝ` (3n_w × 3n_w) and `H = Ĝᵀ K̂_v⁻¹`:
+//!
+//! ```text
+//! (D̂ + Σᵢ Uᵢᵀ Sᵢ Uᵢ) q_{n+1} = b_q − Σᵢ Uᵢᵀ Hᵢ b_vᵢ ,      vᵢ,_{n+1} = K̂_vᵢ⁻¹ b_vᵢ − Hᵢᵀ Uᵢ q_{n+1}
+//! ```
+//!
+//! where `Uᵢ` stacks the `Ψ_w` of vehicle i's wheelsets and `D̂ = diag(a0 + a1 2ζω + ω²)`. The
+//! cost per step is `O(n_wheelsets · N_b²)` for the reduced matrix plus one `N_b × N_b`
+//! Cholesky solve — independent of how many vehicle DOFs there are beyond the constant
+//! per-vehicle back-substitutions. [`assemble_eq14`] builds the full matrices of eq. (14)
+//! explicitly; the tests check that both give the same solution.
+
+use super::{rail_prescribed, VehicleState};
+use crate::bridge::ModalBridge;
+use crate::newmark::Newmark;
+use crate::track::RailProfile;
+use crate::train::{Train, WheelsetRef};
+use crate::vehicle::LinearVehicle;
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn, Vector3};
+use std::sync::Arc;
+
+struct VehicleCache {
+    /// Cholesky of K̂_v (None for vehicles without DOFs).
+    chol: Option<Cholesky<f64, Dyn>>,
+    /// S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w).
+    s: DMatrix<f64>,
+    /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
+    h: DMatrix<f64>,
+}
+
+/// Monolithic Newmark integration of eq. (14) (see the module docs).
+pub struct Monolithic {
+    pub bridge: ModalBridge,
+    pub train: Train,
+    pub track: Arc<dyn RailProfile>,
+    nm: Newmark,
+    /// Current time, s.
+    pub t: f64,
+    pub q: DVector<f64>,
+    pub qd: DVector<f64>,
+    pub qdd: DVector<f64>,
+    /// Vehicle states (free DOFs from static equilibrium).
+    pub vehicles: Vec<VehicleState>,
+    /// Train wheelsets front to back.
+    pub wheelsets: Vec<WheelsetRef>,
+    /// Wheelset positions at `t`, m.
+    pub x: Vec<f64>,
+    /// Total rail motion (u, u̇, ü) of each wheelset at `t`.
+    pub rail: Vec<[Vector3<f64>; 3]>,
+    /// Force of each wheelset on the rail at `t` (F_y, M_x, F_z).
+    pub forces: Vec<Vector3<f64>>,
+    omega: Vec<f64>,
+    zeta: Vec<f64>,
+    psi: Vec<[f64; 3]>,
+    presc: Vec<[Vector3<f64>; 3]>,
+    cache: Vec<VehicleCache>,
+    first_ws: Vec<usize>,
+}
+
+impl Monolithic {
+    /// Set up at `t = 0`: bridge at rest, vehicles in static equilibrium on the rail under
+    /// them, consistent initial accelerations.
+    pub fn new(bridge: ModalBridge, train: Train, track: Arc<dyn RailProfile>, dt: f64) -> Self {
+        let nb = bridge.n_modes();
+        let wheelsets = train.wheelsets();
+        let nw = wheelsets.len();
+        let nm = Newmark::new(dt);
+        let mut first_ws = Vec::new();
+        let mut k = 0;
+        for tv in &train.vehicles {
+            first_ws.push(k);
+            k += tv.model.wheelsets.len();
+        }
+        let cache = train
+            .vehicles
+            .iter()
+            .map(|tv| vehicle_cache(&tv.model, &nm))
+            .collect();
+        let mut s = Monolithic {
+            omega: bridge.omegas(),
+            zeta: bridge.damping.clone(),
+            bridge,
+            vehicles: Vec::new(),
+            train,
+            track,
+            nm,
+            t: 0.0,
+            q: DVector::zeros(nb),
+            qd: DVector::zeros(nb),
+            qdd: DVector::zeros(nb),
+            wheelsets,
+            x: vec![0.0; nw],
+            rail: vec![[Vector3::zeros(); 3]; nw],
+            forces: vec![Vector3::zeros(); nw],
+            psi: vec![[0.0; 3]; nw * nb],
+            presc: vec![[Vector3::zeros(); 3]; nw],
+            cache,
+            first_ws,
+        };
+        s.update_geometry(0.0);
+        for w in 0..nw {
+            s.rail[w] = s.presc[w];
+        }
+        s.vehicles = s
+            .train
+            .vehicles
+            .iter()
+            .enumerate()
+            .map(|(i, tv)| {
+                let f = s.first_ws[i];
+                VehicleState::initial(&tv.model, &s.rail[f..f + tv.model.wheelsets.len()])
+            })
+            .collect();
+        s.initial_bridge_acceleration();
+        s.finish_outputs();
+        s
+    }
+
+    pub fn dt(&self) -> f64 {
+        self.nm.h
+    }
+
+    fn psi_w(&self, w: usize) -> &[[f64; 3]] {
+        let nb = self.q.len();
+        &self.psi[w * nb..(w + 1) * nb]
+    }
+
+    /// Positions, Ψ and prescribed rail motion at time `t`.
+    fn update_geometry(&mut self, t: f64) {
+        let nb = self.q.len();
+        for (w, ws) in self.wheelsets.iter().enumerate() {
+            let x = self.train.x_at(ws.offset_m, t);
+            self.x[w] = x;
+            self.bridge
+                .rail_shapes(x, &mut self.psi[w * nb..(w + 1) * nb]);
+            self.presc[w] = rail_prescribed(&*self.track, &self.train, w, x, t);
+        }
+    }
+
+    fn psi_mul(psi: &[[f64; 3]], q: &DVector<f64>) -> Vector3<f64> {
+        let mut u = Vector3::zeros();
+        for (p, qn) in psi.iter().zip(q.iter()) {
+            u.x += p[0] * qn;
+            u.y += p[1] * qn;
+            u.z += p[2] * qn;
+        }
+        u
+    }
+
+    fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut DVector<f64>) {
+        for (o, p) in out.iter_mut().zip(psi) {
+            *o += p[0] * f.x + p[1] * f.y + p[2] * f.z;
+        }
+    }
+
+    fn initial_bridge_acceleration(&mut self) {
+        let nb = self.q.len();
+        let mut a = DMatrix::<f64>::identity(nb, nb);
+        let mut rhs = DVector::zeros(nb);
+        for n in 0..nb {
+            rhs[n] = -2.0 * self.zeta[n] * self.omega[n] * self.qd[n]
+                - self.omega[n].powi(2) * self.q[n];
+        }
+        for (w, ws) in self.wheelsets.iter().enumerate() {
+            let model = &self.train.vehicles[ws.vehicle].model;
+            let c = &model.wheelsets[ws.local];
+            let psi = &self.psi[w * nb..(w + 1) * nb];
+            // force without the deck-acceleration part of the wheel inertia
+            let [u, ud, udd] = self.rail[w];
+            let vs = &self.vehicles[ws.vehicle];
+            let f = model.wheel_force(ws.local, &vs.v, &vs.vd, &u, &ud, &udd);
+            Self::psi_tr_add(psi, &f, &mut rhs);
+            for i in 0..nb {
+                let mp = c.m_w * Vector3::from(psi[i]);
+                for j in 0..nb {
+                    a[(j, i)] += psi[j][0] * mp.x + psi[j][1] * mp.y + psi[j][2] * mp.z;
+                }
+            }
+        }
+        self.qdd = a
+            .cholesky()
+            .expect("I + ΣΨᵀM_wΨ is positive definite")
+            .solve(&rhs);
+    }
+
+    /// Rail motion and wheel forces from the current state.
+    fn finish_outputs(&mut self) {
+        for w in 0..self.wheelsets.len() {
+            let ws = self.wheelsets[w];
+            let psi = self.psi_w(w);
+            let p = self.presc[w];
+            let u = Self::psi_mul(psi, &self.q) + p[0];
+            let ud = Self::psi_mul(psi, &self.qd) + p[1];
+            let udd = Self::psi_mul(psi, &self.qdd) + p[2];
+            self.rail[w] = [u, ud, udd];
+            let vs = &self.vehicles[ws.vehicle];
+            self.forces[w] = self.train.vehicles[ws.vehicle]
+                .model
+                .wheel_force(ws.local, &vs.v, &vs.vd, &u, &ud, &udd);
+        }
+    }
+
+    /// Advance one step of size `dt`.
+    pub fn step(&mut self) {
+        let nm = self.nm;
+        let nb = self.q.len();
+        let t1 = self.t + nm.h;
+        self.update_geometry(t1);
+        // Predictors of the bridge.
+        let qm = DVector::from_fn(nb, |n, _| nm.mass_pred(self.q[n], self.qd[n], self.qdd[n]));
+        let qc = DVector::from_fn(nb, |n, _| nm.damp_pred(self.q[n], self.qd[n]));
+        let mut a = DMatrix::<f64>::zeros(nb, nb);
+        let mut bq = DVector::zeros(nb);
+        for n in 0..nb {
+            let c = 2.0 * self.zeta[n] * self.omega[n];
+            a[(n, n)] = nm.a0 + nm.a1 * c + self.omega[n].powi(2);
+            bq[n] = qm[n] + c * qc[n];
+        }
+        let mut bvs: Vec<(DVector<f64>, DMatrix<f64>)> = Vec::with_capacity(self.vehicles.len());
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let model = &tv.model;
+            let cache = &self.cache[i];
+            let vs = &self.vehicles[i];
+            let nw_i = model.wheelsets.len();
+            let f0 = self.first_ws[i];
+            // vehicle predictors
+            let vm = nm.a0 * &vs.v + nm.a2 * &vs.vd + &vs.vdd;
+            let vc = nm.a1 * &vs.v + &vs.vd;
+            let mut bv = &model.m * &vm + &model.c * &vc;
+            // rail-space quantities per wheelset
+            let mut u_block = DMatrix::<f64>::zeros(3 * nw_i, nb);
+            for l in 0..nw_i {
+                let w = f0 + l;
+                let c = &model.wheelsets[l];
+                let psi = &self.psi[w * nb..(w + 1) * nb];
+                let [r, rd, rdd] = self.presc[w];
+                let pv = Self::psi_mul(psi, &qc); // Ψ (a1 q + q̇)
+                let pm = Self::psi_mul(psi, &qm); // Ψ (a0 q + a2 q̇ + q̈)
+                if model.ndof() > 0 {
+                    bv -= &c.k_vw * r + &c.c_vw * (rd - pv);
+                }
+                let mut g =
+                    c.p0 - c.m_w * rdd - c.k_ww * r - c.c_ww * rd + c.m_w * pm + c.c_ww * pv;
+                if model.ndof() > 0 {
+                    g += c.c_vw.tr_mul(&vc);
+                }
+                Self::psi_tr_add(psi, &g, &mut bq);
+                for (n, p) in psi.iter().enumerate() {
+                    u_block[(3 * l, n)] = p[0];
+                    u_block[(3 * l + 1, n)] = p[1];
+                    u_block[(3 * l + 2, n)] = p[2];
+                }
+            }
+            if model.ndof() > 0 {
+                let z = &cache.h * &bv;
+                bq -= u_block.tr_mul(&z);
+            }
+            let su = &cache.s * &u_block;
+            a += u_block.tr_mul(&su);
+            bvs.push((bv, u_block));
+        }
+        let q1 = a
+            .cholesky()
+            .expect("reduced bridge matrix is positive definite")
+            .solve(&bq);
+        // Back-substitute the vehicles.
+        for (i, (bv, u_block)) in bvs.into_iter().enumerate() {
+            let cache = &self.cache[i];
+            if self.train.vehicles[i].model.ndof() == 0 {
+                continue;
+            }
+            let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
+            let v1 = chol.solve(&bv) - cache.h.tr_mul(&(&u_block * &q1));
+            self.vehicles[i].newmark_update(&nm, v1);
+        }
+        for n in 0..nb {
+            let (qd1, qdd1) = nm.update(q1[n], self.q[n], self.qd[n], self.qdd[n]);
+            self.qd[n] = qd1;
+            self.qdd[n] = qdd1;
+        }
+        self.q = q1;
+        self.t = t1;
+        self.finish_outputs();
+    }
+}
+
+fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
+    let n = model.ndof();
+    let nw = model.wheelsets.len();
+    let mut s = DMatrix::zeros(3 * nw, 3 * nw);
+    for (l, c) in model.wheelsets.iter().enumerate() {
+        let w_hat = nm.a0 * c.m_w + nm.a1 * c.c_ww + c.k_ww;
+        s.view_mut((3 * l, 3 * l), (3, 3)).copy_from(&w_hat);
+    }
+    if n == 0 {
+        return VehicleCache {
+            chol: None,
+            s,
+            h: DMatrix::zeros(3 * nw, 0),
+        };
+    }
+    let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
+    let chol = khat
+        .cholesky()
+        .expect("a0 M + a1 C + K of a vehicle is positive definite");
+    let ghat: Vec<DMatrix<f64>> = model
+        .wheelsets
+        .iter()
+        .map(|c| &c.k_vw + nm.a1 * &c.c_vw)
+        .collect();
+    let mut g = DMatrix::zeros(n, 3 * nw);
+    for (l, gl) in ghat.iter().enumerate() {
+        g.view_mut((0, 3 * l), (n, 3)).copy_from(gl);
+    }
+    let kinv_g = chol.solve(&g); // n × 3nw
+    s -= g.tr_mul(&kinv_g);
+    let h = kinv_g.transpose();
+    VehicleCache {
+        chol: Some(chol),
+        s,
+        h,
+    }
+}
+
+/// The full matrices of eq. (14) at time `t` for the given solver's geometry:
+/// `(M, C, K, F)` over `(v_1, …, v_Nv, q)`. Used to check the structured solver.
+pub fn assemble_eq14(sol: &Monolithic) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, DVector<f64>) {
+    let nb = sol.q.len();
+    let nv: usize = sol.train.vehicles.iter().map(|v| v.model.ndof()).sum();
+    let dim = nv + nb;
+    let mut m = DMatrix::zeros(dim, dim);
+    let mut c = DMatrix::zeros(dim, dim);
+    let mut k = DMatrix::zeros(dim, dim);
+    let mut f = DVector::zeros(dim);
+    let mut off = Vec::new();
+    let mut o = 0;
+    for tv in &sol.train.vehicles {
+        let n = tv.model.ndof();
+        off.push(o);
+        m.view_mut((o, o), (n, n)).copy_from(&tv.model.m);
+        c.view_mut((o, o), (n, n)).copy_from(&tv.model.c);
+        k.view_mut((o, o), (n, n)).copy_from(&tv.model.k);
+        o += n;
+    }
+    for n in 0..nb {
+        m[(nv + n, nv + n)] = 1.0;
+        c[(nv + n, nv + n)] = 2.0 * sol.zeta[n] * sol.omega[n];
+        k[(nv + n, nv + n)] = sol.omega[n].powi(2);
+    }
+    for (w, ws) in sol.wheelsets.iter().enumerate() {
+        let model = &sol.train.vehicles[ws.vehicle].model;
+        let cw = &model.wheelsets[ws.local];
+        let n = model.ndof();
+        let ov = off[ws.vehicle];
+        let psi = DMatrix::from_fn(3, nb, |r, j| sol.psi_w(w)[j][r]);
+        let [r, rd, rdd] = sol.presc[w];
+        let mw = DMatrix::from_iterator(3, 3, cw.m_w.iter().copied());
+        let kww = DMatrix::from_iterator(3, 3, cw.k_ww.iter().copied());
+        let cww = DMatrix::from_iterator(3, 3, cw.c_ww.iter().copied());
+        let bridge = |mat: &mut DMatrix<f64>, blk: &DMatrix<f64>| {
+            let add = psi.transpose() * blk * &psi;
+            let mut v = mat.view_mut((nv, nv), (nb, nb));
+            v += add;
+        };
+        bridge(&mut m, &mw);
+        bridge(&mut k, &kww);
+        bridge(&mut c, &cww);
+        if n > 0 {
+            let kvb = &cw.k_vw * &psi;
+            let cvb = &cw.c_vw * &psi;
+            let mut v = k.view_mut((ov, nv), (n, nb));
+            v += &kvb;
+            let mut v = k.view_mut((nv, ov), (nb, n));
+            v += kvb.transpose();
+            let mut v = c.view_mut((ov, nv), (n, nb));
+            v += &cvb;
+            let mut v = c.view_mut((nv, ov), (nb, n));
+            v += cvb.transpose();
+            let fv = -(&cw.k_vw * r + &cw.c_vw * rd);
+            let mut v = f.rows_mut(ov, n);
+            v += fv;
+        }
+        let fb = cw.p0 - cw.m_w * rdd - cw.c_ww * rd - cw.k_ww * r;
+        let add = psi.transpose() * DVector::from_column_slice(fb.as_slice());
+        let mut v = f.rows_mut(nv, nb);
+        v += add;
+    }
+    (m, c, k, f)
+}
+
+/// Advance the full eq. (14) by one Newmark step with a dense solve (reference for tests):
+/// returns the new `(x, ẋ, ẍ)` over `(v, q)` given the solver's current state, with the
+/// matrices evaluated at `t + dt` by calling [`Monolithic::step`]-equivalent geometry.
+pub fn dense_reference_step(sol: &mut Monolithic) -> DVector<f64> {
+    let nm = sol.nm;
+    let (x0, xd0, xdd0) = sol.stacked_state();
+    let t1 = sol.t + nm.h;
+    sol.update_geometry(t1);
+    let (m, c, k, f) = assemble_eq14(sol);
+    let khat = nm.a0 * &m + nm.a1 * &c + &k;
+    let rhs = f + &m * (nm.a0 * &x0 + nm.a2 * &xd0 + &xdd0) + &c * (nm.a1 * &x0 + &xd0);
+    khat.lu()
+        .solve(&rhs)
+        .expect("eq. (14) Newmark matrix is regular")
+}
+
+impl Monolithic {
+    /// `(x, ẋ, ẍ)` stacked over `(v_1, …, v_Nv, q)`.
+    pub fn stacked_state(&self) -> (DVector<f64>, DVector<f64>, DVector<f64>) {
+        let mut x = Vec::new();
+        let mut xd = Vec::new();
+        let mut xdd = Vec::new();
+        for v in &self.vehicles {
+            x.extend(v.v.iter());
+            xd.extend(v.vd.iter());
+            xdd.extend(v.vdd.iter());
+        }
+        x.extend(self.q.iter());
+        xd.extend(self.qd.iter());
+        xdd.extend(self.qdd.iter());
+        (
+            DVector::from_vec(x),
+            DVector::from_vec(xd),
+            DVector::from_vec(xdd),
+        )
+    }
+}

@@ -1,0 +1,287 @@
+//! The two partitions of eq. (14), each advanced by its own Newmark step with the coupling
+//! quantities of the *end* of the step as inputs.
+//!
+//! * [`BridgeSide`] (bridge plus track): inputs per wheelset — position `x`, speed `ẋ` and the
+//!   force on the rail `f = (F_y, M_x, F_z)`; it integrates `q̈ + 2ζω q̇ + ω² q = Σ Ψ(x)ᵀ f` and
+//!   outputs the rail motion under each wheelset, deck plus irregularity:
+//!   `u = Ψ(x) q + r(x)`, `u̇ = Ψ q̇ + ẋ r′`, `ü = Ψ q̈ + ẋ² r″`.
+//! * [`TrainSide`]: inputs per wheelset — that rail motion; it adds wheel hunting, integrates
+//!   every vehicle and outputs positions and the wheel forces of eq. (6).
+//!
+//! When an interface iteration converges, both partitions satisfy their equations at
+//! `t + h` with the same interface values, which is exactly the monolithic Newmark step of
+//! eq. (14): the co-simulation and the monolithic solution coincide to the iteration
+//! tolerance.
+
+use super::VehicleState;
+use crate::bridge::ModalBridge;
+use crate::newmark::Newmark;
+use crate::track::{rail_motion, RailProfile};
+use crate::train::{Train, WheelsetRef};
+use crate::vehicle::LinearVehicle;
+use nalgebra::{Cholesky, DVector, Dyn, Vector3};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// The inputs of one wheelset to the bridge.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct WheelInput {
+    /// Position along the track, m.
+    pub x: f64,
+    /// Speed along the track, m/s.
+    pub vx: f64,
+    /// Force on the rail (F_y N, M_x N·m, F_z N).
+    pub f: [f64; 3],
+}
+
+/// Deck response at a probe (shear centre).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ProbeValues {
+    /// Lateral displacement, m.
+    pub y: f64,
+    /// Vertical displacement, m (+ down).
+    pub z: f64,
+    /// Torsion, rad.
+    pub theta: f64,
+    /// Lateral acceleration, m/s².
+    pub y_dd: f64,
+    /// Vertical acceleration, m/s².
+    pub z_dd: f64,
+}
+
+/// Dynamic state of the modal bridge.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ModalState {
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+}
+
+/// The bridge with its track (see the module docs).
+#[derive(Debug, Clone)]
+pub struct BridgeSide {
+    pub bridge: Arc<ModalBridge>,
+    pub track: Arc<dyn RailProfile>,
+    pub state: ModalState,
+    omega: Vec<f64>,
+    zeta: Vec<f64>,
+    scratch: Vec<[f64; 3]>,
+}
+
+impl BridgeSide {
+    pub fn new(bridge: Arc<ModalBridge>, track: Arc<dyn RailProfile>) -> Self {
+        let nb = bridge.n_modes();
+        BridgeSide {
+            omega: bridge.omegas(),
+            zeta: bridge.damping.clone(),
+            state: ModalState {
+                q: vec![0.0; nb],
+                qd: vec![0.0; nb],
+                qdd: vec![0.0; nb],
+            },
+            scratch: vec![[0.0; 3]; nb],
+            bridge,
+            track,
+        }
+    }
+
+    /// Generalised forces `Σ Ψ(x_w)ᵀ f_w`.
+    fn modal_force(&mut self, inputs: &[WheelInput]) -> Vec<f64> {
+        let mut fq = vec![0.0; self.omega.len()];
+        for wi in inputs {
+            if self.bridge.rail_shapes(wi.x, &mut self.scratch) {
+                for (o, p) in fq.iter_mut().zip(&self.scratch) {
+                    *o += p[0] * wi.f[0] + p[1] * wi.f[1] + p[2] * wi.f[2];
+                }
+            }
+        }
+        fq
+    }
+
+    /// Bridge at rest; initial acceleration from the inputs at t = 0.
+    pub fn initialize(&mut self, inputs: &[WheelInput]) {
+        let nb = self.omega.len();
+        self.state.q = vec![0.0; nb];
+        self.state.qd = vec![0.0; nb];
+        self.state.qdd = self.modal_force(inputs);
+    }
+
+    /// One Newmark step of size `h` with end-of-step inputs.
+    pub fn step(&mut self, h: f64, inputs: &[WheelInput]) {
+        let nm = Newmark::new(h);
+        let fq = self.modal_force(inputs);
+        let s = &mut self.state;
+        for n in 0..fq.len() {
+            let c = 2.0 * self.zeta[n] * self.omega[n];
+            let k = self.omega[n] * self.omega[n];
+            let rhs =
+                fq[n] + nm.mass_pred(s.q[n], s.qd[n], s.qdd[n]) + c * nm.damp_pred(s.q[n], s.qd[n]);
+            let q1 = rhs / (nm.a0 + nm.a1 * c + k);
+            let (qd1, qdd1) = nm.update(q1, s.q[n], s.qd[n], s.qdd[n]);
+            s.q[n] = q1;
+            s.qd[n] = qd1;
+            s.qdd[n] = qdd1;
+        }
+    }
+
+    /// Rail motion (u, u̇, ü) at `x` for a wheelset moving at `vx`: deck plus irregularity.
+    pub fn rail(&mut self, x: f64, vx: f64) -> [Vector3<f64>; 3] {
+        let mut r = rail_motion(&self.track.at(x), vx);
+        if self.bridge.rail_shapes(x, &mut self.scratch) {
+            let s = &self.state;
+            for (n, p) in self.scratch.iter().enumerate() {
+                for k in 0..3 {
+                    r[0][k] += p[k] * s.q[n];
+                    r[1][k] += p[k] * s.qd[n];
+                    r[2][k] += p[k] * s.qdd[n];
+                }
+            }
+        }
+        r
+    }
+
+    /// Deck response at `x`.
+    pub fn probe(&mut self, x: f64) -> ProbeValues {
+        let mut p = ProbeValues::default();
+        if self.bridge.deck_shapes(x, &mut self.scratch) {
+            let s = &self.state;
+            for (n, sh) in self.scratch.iter().enumerate() {
+                p.y += sh[0] * s.q[n];
+                p.z += sh[1] * s.q[n];
+                p.theta += sh[2] * s.q[n];
+                p.y_dd += sh[0] * s.qdd[n];
+                p.z_dd += sh[1] * s.qdd[n];
+            }
+        }
+        p
+    }
+}
+
+/// Newmark factor of one vehicle for one step size.
+#[derive(Debug, Clone)]
+struct Factor {
+    h: f64,
+    chol: Option<Cholesky<f64, Dyn>>,
+}
+
+/// The train (see the module docs).
+#[derive(Debug, Clone)]
+pub struct TrainSide {
+    pub train: Arc<Train>,
+    pub wheelsets: Vec<WheelsetRef>,
+    pub states: Vec<VehicleState>,
+    /// Total rail motion (with hunting) used for the current state, per wheelset.
+    pub rails: Vec<[Vector3<f64>; 3]>,
+    /// Current time, s.
+    pub t: f64,
+    factors: Vec<Factor>,
+}
+
+impl TrainSide {
+    pub fn new(train: Arc<Train>) -> Self {
+        let wheelsets = train.wheelsets();
+        let nw = wheelsets.len();
+        TrainSide {
+            states: train
+                .vehicles
+                .iter()
+                .map(|tv| {
+                    VehicleState::initial(
+                        &tv.model,
+                        &vec![[Vector3::zeros(); 3]; tv.model.wheelsets.len()],
+                    )
+                })
+                .collect(),
+            factors: vec![
+                Factor {
+                    h: f64::NAN,
+                    chol: None
+                };
+                train.vehicles.len()
+            ],
+            rails: vec![[Vector3::zeros(); 3]; nw],
+            wheelsets,
+            train,
+            t: 0.0,
+        }
+    }
+
+    /// Position of wheelset `w` at time `t`, m.
+    pub fn x(&self, w: usize, t: f64) -> f64 {
+        self.train.x_at(self.wheelsets[w].offset_m, t)
+    }
+
+    fn with_hunting(&self, w: usize, t: f64, rail: &[Vector3<f64>; 3]) -> [Vector3<f64>; 3] {
+        let v = self.train.speed_m_s;
+        let h = self.train.hunting.lateral(w, v * t, v);
+        let mut r = *rail;
+        r[0].x += h[0];
+        r[1].x += h[1];
+        r[2].x += h[2];
+        r
+    }
+
+    /// Static equilibrium at time `t` on the given rail motion (deck plus irregularity).
+    pub fn initialize(&mut self, t: f64, rails: &[[Vector3<f64>; 3]]) {
+        self.t = t;
+        self.rails = (0..rails.len())
+            .map(|w| self.with_hunting(w, t, &rails[w]))
+            .collect();
+        let mut first = 0;
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let nw = tv.model.wheelsets.len();
+            self.states[i] = VehicleState::initial(&tv.model, &self.rails[first..first + nw]);
+            first += nw;
+        }
+    }
+
+    /// One Newmark step from `self.t` to `self.t + h` with the end-of-step rail motion.
+    pub fn step(&mut self, h: f64, rails: &[[Vector3<f64>; 3]]) {
+        let t1 = self.t + h;
+        let nm = Newmark::new(h);
+        self.rails = (0..rails.len())
+            .map(|w| self.with_hunting(w, t1, &rails[w]))
+            .collect();
+        let mut first = 0;
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let model: &LinearVehicle = &tv.model;
+            let nw = model.wheelsets.len();
+            if model.ndof() > 0 {
+                if self.factors[i].h != h {
+                    let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
+                    self.factors[i] = Factor {
+                        h,
+                        chol: Some(
+                            khat.cholesky()
+                                .expect("a0 M + a1 C + K is positive definite"),
+                        ),
+                    };
+                }
+                let s = &self.states[i];
+                let mut b = &model.m * (nm.a0 * &s.v + nm.a2 * &s.vd + &s.vdd)
+                    + &model.c * (nm.a1 * &s.v + &s.vd);
+                for (c, r) in model.wheelsets.iter().zip(&self.rails[first..first + nw]) {
+                    b -= &c.k_vw * r[0] + &c.c_vw * r[1];
+                }
+                let v1: DVector<f64> = self.factors[i]
+                    .chol
+                    .as_ref()
+                    .expect("factor set above")
+                    .solve(&b);
+                self.states[i].newmark_update(&nm, v1);
+            }
+            first += nw;
+        }
+        self.t = t1;
+    }
+
+    /// Force of wheelset `w` on the rail for the current state.
+    pub fn force(&self, w: usize) -> Vector3<f64> {
+        let ws = self.wheelsets[w];
+        let s = &self.states[ws.vehicle];
+        let [u, ud, udd] = self.rails[w];
+        self.train.vehicles[ws.vehicle]
+            .model
+            .wheel_force(ws.local, &s.v, &s.vd, &u, &ud, &udd)
+    }
+}

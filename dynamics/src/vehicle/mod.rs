@@ -1,0 +1,185 @@
+//! Vehicles as linear systems driven by the rail motion under their wheelsets.
+//!
+//! Every vehicle kind (moving force, sprung mass, the paper's 27-DOF coach) is reduced to
+//! one [`LinearVehicle`]: `n` free degrees of freedom `v` (car body, bogies, masses —
+//! measured from static equilibrium on a rigid, smooth, level track), and wheelsets whose
+//! three rail DOFs `u = (Y_w, θ_w, Z_w)` (lateral, roll, vertical) are *prescribed*: a wheelset
+//! follows the rail (deck motion plus irregularity plus hunting, eqs. 8 and 13 of Xia, Xu &
+//! Chan 2000), so it carries no DOF of its own.
+//!
+//! The potential and dissipation of all springs and dampers give, for the stacked vector
+//! `(v, u_1, …, u_nw)`, symmetric block matrices
+//!
+//! ```text
+//! K_full = | K_vv   K_vw |      C_full likewise,   M_full = | M_vv  0   |
+//!          | K_wv   K_ww |                                  | 0     M_w |
+//! ```
+//!
+//! with `K_wv = K_vwᵀ`. The vehicle equations are
+//! `M_vv v̈ + C_vv v̇ + K_vv v = −Σ_w (K_vw,w u_w + C_vw,w u̇_w)`, and the force that wheelset
+//! `w` exerts on the rail (= on the deck) at its reference point is
+//!
+//! ```text
+//! f_w = P0_w − M_w ü_w − K_ww,w u_w − C_ww,w u̇_w − K_wv,w v − C_wv,w v̇ ,        (eq. 6)
+//! ```
+//!
+//! `f_w = (F_y, M_x, F_z)`: lateral force (+y), roll moment about +x, vertical force (+z,
+//! down). `P0_w` is the static load (wheelset weight plus the spring forces of the static
+//! equilibrium), computed by a static solve so that it holds for any geometry.
+//!
+//! The matrices are assembled from one list of spring–damper elements ([`assembly`]): each
+//! element's elongation is a linear form in the DOFs of the rigid bodies it joins, built
+//! from the small-rotation kinematics of the attachment points (see ARCHITECTURE.md for the
+//! axes). Symmetry follows by construction and is tested.
+
+pub mod assembly;
+pub mod coach;
+pub mod simple;
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Standard gravity, m/s².
+pub const GRAVITY: f64 = 9.81;
+
+/// The coupling of one wheelset to its vehicle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WheelsetCoupling {
+    /// Distance of the wheelset behind the vehicle's reference (its first wheelset), m.
+    pub offset_m: f64,
+    /// `K_vw` block (n × 3): vehicle DOFs × rail DOFs (Y_w, θ_w, Z_w).
+    pub k_vw: DMatrix<f64>,
+    /// `C_vw` block (n × 3).
+    pub c_vw: DMatrix<f64>,
+    /// `K_ww` (3 × 3).
+    pub k_ww: Matrix3<f64>,
+    /// `C_ww` (3 × 3).
+    pub c_ww: Matrix3<f64>,
+    /// Wheelset inertia `diag(m_w, J_w, m_w)` in kg, kg·m², kg.
+    pub m_w: Matrix3<f64>,
+    /// Static force on the rail `(F_y, M_x, F_z)` in N, N·m, N (F_z > 0 downward).
+    pub p0: Vector3<f64>,
+}
+
+/// What to report as the vehicle's car-body acceleration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BodyDofs {
+    /// DOF index of the car-body lateral displacement, if modelled.
+    pub lateral: Option<usize>,
+    /// DOF index of the car-body vertical displacement, if modelled.
+    pub vertical: Option<usize>,
+}
+
+/// A vehicle reduced to constant matrices (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LinearVehicle {
+    /// Kind name for reports (`moving_force`, `sprung_mass`, `coach_27dof`).
+    pub kind: String,
+    /// Names of the free DOFs (e.g. `car.Y`, `bogie1.Z`).
+    pub dof_names: Vec<String>,
+    /// Mass matrix `M_vv` (n × n).
+    pub m: DMatrix<f64>,
+    /// Damping matrix `C_vv` (n × n).
+    pub c: DMatrix<f64>,
+    /// Stiffness matrix `K_vv` (n × n).
+    pub k: DMatrix<f64>,
+    /// The wheelsets, front to back.
+    pub wheelsets: Vec<WheelsetCoupling>,
+    /// Car-body DOFs reported as vehicle accelerations.
+    pub body: BodyDofs,
+    /// Lateral distance between the two wheel–rail contact points, m (splits the roll
+    /// moment into left and right wheel loads).
+    pub contact_distance_m: f64,
+}
+
+impl LinearVehicle {
+    /// Number of free DOFs.
+    pub fn ndof(&self) -> usize {
+        self.m.nrows()
+    }
+
+    /// Total mass carried by the rails, kg (Σ static vertical wheelset loads / g).
+    pub fn total_weight_n(&self) -> f64 {
+        self.wheelsets.iter().map(|w| w.p0.z).sum()
+    }
+
+    /// Length from the first to the last wheelset, m.
+    pub fn wheelbase_m(&self) -> f64 {
+        self.wheelsets.last().map(|w| w.offset_m).unwrap_or(0.0)
+    }
+
+    /// The force on the rail of wheelset `w` (eq. 6) for given vehicle state and rail motion.
+    #[allow(clippy::too_many_arguments)]
+    pub fn wheel_force(
+        &self,
+        w: usize,
+        v: &DVector<f64>,
+        vd: &DVector<f64>,
+        u: &Vector3<f64>,
+        ud: &Vector3<f64>,
+        udd: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        let ws = &self.wheelsets[w];
+        let mut f = ws.p0 - ws.m_w * udd - ws.k_ww * u - ws.c_ww * ud;
+        if self.ndof() > 0 {
+            f -= ws.k_vw.tr_mul(v) + ws.c_vw.tr_mul(vd);
+        }
+        f
+    }
+}
+
+/// Per-wheel quantities of one wheelset derived from its rail force.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct WheelLoads {
+    /// Lateral wheelset force Q = F_y, N.
+    pub q: f64,
+    /// Vertical wheelset force P = F_z, N.
+    pub p: f64,
+    /// Left wheel (−y side) vertical load, N.
+    pub p_left: f64,
+    /// Right wheel (+y side) vertical load, N.
+    pub p_right: f64,
+    /// Derail factor, wheelset form Q/P (signed).
+    pub derail: f64,
+    /// Offload factor, wheelset form (P0 − P)/P0.
+    pub offload: f64,
+    /// Derail factor, per-wheel form: |Q| over the vertical load of the wheel Q pushes toward.
+    pub derail_wheel: f64,
+    /// Offload factor, per-wheel form: max over both wheels of (P0/2 − P_wheel)/(P0/2).
+    pub offload_wheel: f64,
+}
+
+impl WheelLoads {
+    /// Split the rail force `f = (F_y, M_x, F_z)` of a wheelset with static vertical load
+    /// `p0` (N) and contact distance `b` (m): `P_R = P/2 + M_x/b`, `P_L = P/2 − M_x/b`.
+    pub fn from_force(f: &Vector3<f64>, p0: f64, b: f64) -> Self {
+        let q = f.x;
+        let p = f.z;
+        let p_right = 0.5 * p + f.y / b;
+        let p_left = 0.5 * p - f.y / b;
+        let derail = if p.abs() > 0.0 { q / p } else { 0.0 };
+        let offload = if p0 > 0.0 { (p0 - p) / p0 } else { 0.0 };
+        let flange = if q >= 0.0 { p_right } else { p_left };
+        let derail_wheel = if flange.abs() > 0.0 {
+            q.abs() / flange
+        } else {
+            0.0
+        };
+        let half = 0.5 * p0;
+        let offload_wheel = if half > 0.0 {
+            ((half - p_left) / half).max((half - p_right) / half)
+        } else {
+            0.0
+        };
+        WheelLoads {
+            q,
+            p,
+            p_left,
+            p_right,
+            derail,
+            offload,
+            derail_wheel,
+            offload_wheel,
+        }
+    }
+}
