@@ -15,6 +15,7 @@
 pub mod bridge;
 pub mod error;
 pub mod newmark;
+pub mod response;
 pub mod solver;
 pub mod track;
 pub mod train;

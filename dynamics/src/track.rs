@@ -7,19 +7,9 @@
 //! the distance travelled.
 
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
 use std::fmt::Debug;
 
-/// Irregularity at a point: each array is (value, d/dx, d²/dx²).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct RailIrregularity {
-    /// Lateral (alignment) Y_s, m.
-    pub lateral: [f64; 3],
-    /// Cross-level as an angle θ_s, rad.
-    pub cross_level: [f64; 3],
-    /// Vertical (profile) Z_s, m (+ down).
-    pub vertical: [f64; 3],
-}
+pub use tbi_track::RailIrregularity;
 
 /// A rail irregularity profile along the track.
 pub trait RailProfile: Send + Sync + Debug {
@@ -46,35 +36,18 @@ pub fn rail_motion(r: &RailIrregularity, v: f64) -> [Vector3<f64>; 3] {
     ]
 }
 
-/// Wheel hunting (eq. 7). Amplitude 0 switches it off.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Hunting {
-    /// Amplitude A_h, m.
-    pub amplitude_m: f64,
-    /// Wavelength L_h, m.
-    pub wavelength_m: f64,
-    /// Phase φ of each wheelset of the train, rad.
-    pub phases: Vec<f64>,
+/// Wheel hunting (eq. 7) as seen in time: `(Y_h, Ẏ_h, Ÿ_h)` of wheelset `w` after travelling
+/// `s` at speed `v`.
+pub fn hunting_motion(h: &tbi_track::WheelHunting, w: usize, s: f64, v: f64) -> [f64; 3] {
+    if !h.is_active() {
+        return [0.0; 3];
+    }
+    let d = h.lateral(w, s);
+    [d[0], d[1] * v, d[2] * v * v]
 }
 
-impl Hunting {
-    pub fn off(n_wheelsets: usize) -> Self {
-        Hunting {
-            amplitude_m: 0.0,
-            wavelength_m: 1.0,
-            phases: vec![0.0; n_wheelsets],
-        }
-    }
-
-    /// (Y_h, dY_h/dt, d²Y_h/dt²) of wheelset `w` after travelling `s` at speed `v`.
-    pub fn lateral(&self, w: usize, s: f64, v: f64) -> [f64; 3] {
-        if self.amplitude_m == 0.0 {
-            return [0.0; 3];
-        }
-        let k = 2.0 * std::f64::consts::PI / self.wavelength_m;
-        let arg = k * s + self.phases[w];
-        let (sn, cs) = arg.sin_cos();
-        let a = self.amplitude_m;
-        [a * sn, a * k * v * cs, -a * k * k * v * v * sn]
+impl RailProfile for tbi_track::Irregularity {
+    fn at(&self, x: f64) -> RailIrregularity {
+        tbi_track::Irregularity::at(self, x)
     }
 }

@@ -4,13 +4,11 @@
 //! back over all vehicles) sits at `offset_w` behind the first axle, which is at `x0` at
 //! `t = 0`, so `x_w(t) = x0 + v t − offset_w`.
 
-use crate::track::Hunting;
 use crate::vehicle::LinearVehicle;
-use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// One vehicle of a train.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct TrainVehicle {
     pub model: Arc<LinearVehicle>,
     /// Distance of this vehicle's first wheelset behind the train's first axle, m.
@@ -18,7 +16,7 @@ pub struct TrainVehicle {
 }
 
 /// A train (see the module docs).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Train {
     pub vehicles: Vec<TrainVehicle>,
     /// Speed v, m/s (> 0).
@@ -26,7 +24,7 @@ pub struct Train {
     /// Position of the first axle at t = 0, m.
     pub x0_m: f64,
     /// Wheel hunting of every wheelset.
-    pub hunting: Hunting,
+    pub hunting: tbi_track::WheelHunting,
 }
 
 /// Where a train wheelset lives.

@@ -2,7 +2,6 @@
 //! Shared helpers for the dynamics tests.
 use std::sync::Arc;
 use tbi_dynamics::bridge::{ModalBridge, SimplySupported};
-use tbi_dynamics::track::Hunting;
 use tbi_dynamics::train::{Train, TrainVehicle};
 use tbi_dynamics::vehicle::LinearVehicle;
 
@@ -38,7 +37,7 @@ pub fn train_of(vehicles: Vec<(LinearVehicle, f64)>, speed: f64, x0: f64) -> Tra
             .collect(),
         speed_m_s: speed,
         x0_m: x0,
-        hunting: Hunting::off(n),
+        hunting: tbi_track::WheelHunting::new(&tbi_track::HuntingParams::default(), n).unwrap(),
     }
 }
 

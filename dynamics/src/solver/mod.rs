@@ -81,9 +81,7 @@ pub fn rail_prescribed(
     t: f64,
 ) -> [Vector3<f64>; 3] {
     let mut r = rail_motion(&track.at(x), train.speed_m_s);
-    let h = train
-        .hunting
-        .lateral(w, train.speed_m_s * t, train.speed_m_s);
+    let h = crate::track::hunting_motion(&train.hunting, w, train.speed_m_s * t, train.speed_m_s);
     r[0].x += h[0];
     r[1].x += h[1];
     r[2].x += h[2];

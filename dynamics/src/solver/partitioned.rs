@@ -213,7 +213,7 @@ impl TrainSide {
 
     fn with_hunting(&self, w: usize, t: f64, rail: &[Vector3<f64>; 3]) -> [Vector3<f64>; 3] {
         let v = self.train.speed_m_s;
-        let h = self.train.hunting.lateral(w, v * t, v);
+        let h = crate::track::hunting_motion(&self.train.hunting, w, v * t, v);
         let mut r = *rail;
         r[0].x += h[0];
         r[1].x += h[1];

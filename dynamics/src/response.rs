@@ -1,0 +1,281 @@
+//! Responses: what a run records, its maxima, safety factors and ride comfort.
+//!
+//! Both solvers (monolithic and co-simulation) fill the same [`Sample`] at each output time,
+//! so their `history.csv` and `summary.json` are produced by one [`Recorder`].
+//!
+//! * Deck: displacement and acceleration at named probes (shear centre; vertical + down).
+//! * Vehicles: car-body lateral and vertical acceleration at the centre of gravity.
+//! * Wheelsets: lateral force Q = F_y, vertical force P = F_z (static plus dynamic), roll
+//!   moment M_x, and from them ([`crate::vehicle::WheelLoads`]):
+//!   - derail factor, wheelset form (the paper's): Q/P; per-wheel form: |Q| / P of the wheel
+//!     the lateral force pushes toward;
+//!   - offload factor, wheelset form: ΔP/P̄ = (P0 − P)/P0 with P0 the static wheelset load;
+//!     per-wheel form: (P0/2 − P_wheel)/(P0/2), the larger of the two wheels.
+//!   Maxima in `summary.json` are maxima of absolute values over all wheelsets and times.
+//! * Sperling ride index W per vehicle and direction, from the spectrum of the car-body
+//!   acceleration: `W = (Σ Wᵢ¹⁰)^0.1`, `Wᵢ = 0.896 (aᵢ³ F(fᵢ)/fᵢ)^0.1`, aᵢ the amplitude of
+//!   the component at fᵢ in cm/s², F the frequency weighting of [`sperling_weight`].
+
+use crate::solver::partitioned::ProbeValues;
+use crate::vehicle::WheelLoads;
+use nalgebra::Vector3;
+use serde::Serialize;
+use std::io::Write;
+
+/// Everything recorded at one output time.
+#[derive(Debug, Clone, Default)]
+pub struct Sample {
+    pub t: f64,
+    pub probes: Vec<ProbeValues>,
+    /// Car-body (lateral, vertical) acceleration per vehicle, m/s² (None if not modelled).
+    pub vehicles: Vec<[Option<f64>; 2]>,
+    /// Force of each wheelset on the rail (F_y, M_x, F_z).
+    pub forces: Vec<Vector3<f64>>,
+}
+
+/// Static description of what is recorded.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    pub probe_names: Vec<String>,
+    /// Per vehicle: (has lateral, has vertical) car-body acceleration.
+    pub vehicles: Vec<[bool; 2]>,
+    /// Per wheelset: static vertical load P0 (N) and contact distance (m).
+    pub wheelsets: Vec<(f64, f64)>,
+}
+
+impl Layout {
+    /// Column names of `history.csv`.
+    pub fn columns(&self) -> Vec<String> {
+        let mut c = vec!["time_s".to_string()];
+        for p in &self.probe_names {
+            c.push(format!("{p}.vertical_displacement_m"));
+            c.push(format!("{p}.vertical_acceleration_m_s2"));
+            c.push(format!("{p}.lateral_displacement_m"));
+            c.push(format!("{p}.lateral_acceleration_m_s2"));
+        }
+        for (i, v) in self.vehicles.iter().enumerate() {
+            if v[0] {
+                c.push(format!("veh{}.lateral_acceleration_m_s2", i + 1));
+            }
+            if v[1] {
+                c.push(format!("veh{}.vertical_acceleration_m_s2", i + 1));
+            }
+        }
+        for w in 0..self.wheelsets.len() {
+            let k = w + 1;
+            c.push(format!("ws{k}.lateral_force_n"));
+            c.push(format!("ws{k}.vertical_force_n"));
+            c.push(format!("ws{k}.roll_moment_nm"));
+            c.push(format!("ws{k}.derail_factor"));
+            c.push(format!("ws{k}.offload_factor"));
+        }
+        c
+    }
+}
+
+/// Maxima of one probe.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ProbeMax {
+    pub x_m: f64,
+    pub vertical_displacement_max_m: f64,
+    pub vertical_acceleration_max_m_s2: f64,
+    pub lateral_displacement_max_m: f64,
+    pub lateral_acceleration_max_m_s2: f64,
+}
+
+/// Vehicle maxima over all vehicles.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct VehicleMax {
+    pub vertical_acceleration_max_m_s2: f64,
+    pub lateral_acceleration_max_m_s2: f64,
+    /// Sperling index per vehicle, vertical (None if not modelled).
+    pub sperling_vertical: Vec<Option<f64>>,
+    /// Sperling index per vehicle, lateral.
+    pub sperling_lateral: Vec<Option<f64>>,
+}
+
+/// Safety maxima (absolute values) over all wheelsets and times.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SafetyMax {
+    /// Wheelset form Q/P.
+    pub derail_factor_max: f64,
+    /// Wheelset form (P0 − P)/P0.
+    pub offload_factor_max: f64,
+    /// Per-wheel form of the derail factor.
+    pub derail_factor_wheel_max: f64,
+    /// Per-wheel form of the offload factor.
+    pub offload_factor_wheel_max: f64,
+    /// Largest lateral wheelset force |Q|, N.
+    pub lateral_force_max_n: f64,
+}
+
+/// Accumulates samples: writes history rows and tracks maxima.
+pub struct Recorder<W: Write> {
+    pub layout: Layout,
+    pub probes: Vec<ProbeMax>,
+    pub vehicles: VehicleMax,
+    pub safety: SafetyMax,
+    acc_history: Vec<[Vec<f64>; 2]>,
+    times: Vec<f64>,
+    out: Option<W>,
+    pub rows: usize,
+}
+
+impl<W: Write> Recorder<W> {
+    /// `probe_x` gives the probe positions (for the summary); `out` receives `history.csv`.
+    pub fn new(layout: Layout, probe_x: &[f64], mut out: Option<W>) -> std::io::Result<Self> {
+        if let Some(o) = out.as_mut() {
+            writeln!(o, "{}", layout.columns().join(","))?;
+        }
+        Ok(Recorder {
+            probes: probe_x
+                .iter()
+                .map(|&x| ProbeMax {
+                    x_m: x,
+                    ..Default::default()
+                })
+                .collect(),
+            vehicles: VehicleMax::default(),
+            safety: SafetyMax::default(),
+            acc_history: vec![[Vec::new(), Vec::new()]; layout.vehicles.len()],
+            times: Vec::new(),
+            layout,
+            out,
+            rows: 0,
+        })
+    }
+
+    /// Record one sample (also writes a history row when `write_row`).
+    pub fn record(&mut self, s: &Sample, write_row: bool) -> std::io::Result<()> {
+        let mut row: Vec<f64> = Vec::with_capacity(64);
+        row.push(s.t);
+        for (p, m) in s.probes.iter().zip(self.probes.iter_mut()) {
+            m.vertical_displacement_max_m = m.vertical_displacement_max_m.max(p.z.abs());
+            m.vertical_acceleration_max_m_s2 = m.vertical_acceleration_max_m_s2.max(p.z_dd.abs());
+            m.lateral_displacement_max_m = m.lateral_displacement_max_m.max(p.y.abs());
+            m.lateral_acceleration_max_m_s2 = m.lateral_acceleration_max_m_s2.max(p.y_dd.abs());
+            row.extend([p.z, p.z_dd, p.y, p.y_dd]);
+        }
+        self.times.push(s.t);
+        for (i, v) in s.vehicles.iter().enumerate() {
+            if let Some(a) = v[0] {
+                self.vehicles.lateral_acceleration_max_m_s2 = self.vehicles.lateral_acceleration_max_m_s2.max(a.abs());
+                self.acc_history[i][0].push(a);
+                row.push(a);
+            }
+            if let Some(a) = v[1] {
+                self.vehicles.vertical_acceleration_max_m_s2 = self.vehicles.vertical_acceleration_max_m_s2.max(a.abs());
+                self.acc_history[i][1].push(a);
+                row.push(a);
+            }
+        }
+        for (f, &(p0, b)) in s.forces.iter().zip(&self.layout.wheelsets) {
+            let l = WheelLoads::from_force(f, p0, b);
+            let sf = &mut self.safety;
+            sf.derail_factor_max = sf.derail_factor_max.max(l.derail.abs());
+            sf.offload_factor_max = sf.offload_factor_max.max(l.offload.abs());
+            sf.derail_factor_wheel_max = sf.derail_factor_wheel_max.max(l.derail_wheel.abs());
+            sf.offload_factor_wheel_max = sf.offload_factor_wheel_max.max(l.offload_wheel.abs());
+            sf.lateral_force_max_n = sf.lateral_force_max_n.max(l.q.abs());
+            row.extend([f.x, f.z, f.y, l.derail, l.offload]);
+        }
+        if write_row {
+            if let Some(o) = self.out.as_mut() {
+                let mut line = String::with_capacity(row.len() * 24);
+                for (k, v) in row.iter().enumerate() {
+                    if k > 0 {
+                        line.push(',');
+                    }
+                    line.push_str(&format!("{v:e}"));
+                }
+                writeln!(o, "{line}")?;
+                self.rows += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Finish: compute Sperling indices, flush the history.
+    pub fn finish(&mut self) -> std::io::Result<()> {
+        let dt = if self.times.len() > 1 {
+            (self.times[self.times.len() - 1] - self.times[0]) / (self.times.len() - 1) as f64
+        } else {
+            0.0
+        };
+        self.vehicles.sperling_lateral.clear();
+        self.vehicles.sperling_vertical.clear();
+        for (i, has) in self.layout.vehicles.iter().enumerate() {
+            let lat = has[0].then(|| sperling(&self.acc_history[i][0], dt, Direction::Lateral));
+            let ver = has[1].then(|| sperling(&self.acc_history[i][1], dt, Direction::Vertical));
+            self.vehicles.sperling_lateral.push(lat);
+            self.vehicles.sperling_vertical.push(ver);
+        }
+        if let Some(o) = self.out.as_mut() {
+            o.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Car-body acceleration histories (lateral, vertical) per vehicle.
+    pub fn acceleration_history(&self, vehicle: usize) -> &[Vec<f64>; 2] {
+        &self.acc_history[vehicle]
+    }
+}
+
+/// Direction for the Sperling weighting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    Vertical,
+    Lateral,
+}
+
+/// Sperling frequency weighting F(f): vertical 0.325 f² (0.5–5.9 Hz), 400/f² (5.9–20 Hz), 1
+/// above; lateral 0.8 f² (0.5–5.4 Hz), 650/f² (5.4–26 Hz), 1 above; below 0.5 Hz the
+/// low-frequency branch continues.
+pub fn sperling_weight(f: f64, dir: Direction) -> f64 {
+    match dir {
+        Direction::Vertical => {
+            if f <= 5.9 {
+                0.325 * f * f
+            } else if f <= 20.0 {
+                400.0 / (f * f)
+            } else {
+                1.0
+            }
+        }
+        Direction::Lateral => {
+            if f <= 5.4 {
+                0.8 * f * f
+            } else if f <= 26.0 {
+                650.0 / (f * f)
+            } else {
+                1.0
+            }
+        }
+    }
+}
+
+/// Sperling index of an acceleration record (m/s², uniform step `dt`): amplitude spectrum by
+/// FFT, components from 0.5 to 30 Hz.
+pub fn sperling(acc: &[f64], dt: f64, dir: Direction) -> f64 {
+    let n = acc.len();
+    if n < 4 || dt <= 0.0 {
+        return 0.0;
+    }
+    let mut buf: Vec<rustfft::num_complex::Complex<f64>> =
+        acc.iter().map(|&a| rustfft::num_complex::Complex::new(a * 100.0, 0.0)).collect();
+    let mut planner = rustfft::FftPlanner::new();
+    planner.plan_fft_forward(n).process(&mut buf);
+    let df = 1.0 / (n as f64 * dt);
+    let mut sum = 0.0;
+    for (k, c) in buf.iter().enumerate().take(n / 2 + 1).skip(1) {
+        let f = k as f64 * df;
+        if !(0.5..=30.0).contains(&f) {
+            continue;
+        }
+        let amp = 2.0 * c.norm() / n as f64; // cm/s²
+        let wi = 0.896 * (amp.powi(3) * sperling_weight(f, dir) / f).powf(0.1);
+        sum += wi.powi(10);
+    }
+    sum.powf(0.1)
+}
