@@ -14,6 +14,7 @@
 
 pub mod bridge;
 pub mod error;
+pub mod interface;
 pub mod newmark;
 pub mod response;
 pub mod solver;

@@ -159,12 +159,14 @@ impl<W: Write> Recorder<W> {
         self.times.push(s.t);
         for (i, v) in s.vehicles.iter().enumerate() {
             if let Some(a) = v[0] {
-                self.vehicles.lateral_acceleration_max_m_s2 = self.vehicles.lateral_acceleration_max_m_s2.max(a.abs());
+                self.vehicles.lateral_acceleration_max_m_s2 =
+                    self.vehicles.lateral_acceleration_max_m_s2.max(a.abs());
                 self.acc_history[i][0].push(a);
                 row.push(a);
             }
             if let Some(a) = v[1] {
-                self.vehicles.vertical_acceleration_max_m_s2 = self.vehicles.vertical_acceleration_max_m_s2.max(a.abs());
+                self.vehicles.vertical_acceleration_max_m_s2 =
+                    self.vehicles.vertical_acceleration_max_m_s2.max(a.abs());
                 self.acc_history[i][1].push(a);
                 row.push(a);
             }
@@ -262,8 +264,10 @@ pub fn sperling(acc: &[f64], dt: f64, dir: Direction) -> f64 {
     if n < 4 || dt <= 0.0 {
         return 0.0;
     }
-    let mut buf: Vec<rustfft::num_complex::Complex<f64>> =
-        acc.iter().map(|&a| rustfft::num_complex::Complex::new(a * 100.0, 0.0)).collect();
+    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = acc
+        .iter()
+        .map(|&a| rustfft::num_complex::Complex::new(a * 100.0, 0.0))
+        .collect();
     let mut planner = rustfft::FftPlanner::new();
     planner.plan_fft_forward(n).process(&mut buf);
     let df = 1.0 / (n as f64 * dt);

@@ -1,3 +1,95 @@
 //! FMI 2.0 Co-Simulation export plumbing.
+//!
+//! The project's FMUs (bridge, train) are `cdylib` crates that contain only their model:
+//! a type implementing [`FmuModel`] and one line, [`export_fmi2!`]`(Model)`. Everything
+//! else an FMU must get right lives here once, in the style of modelica/Reference-FMUs'
+//! shared framework:
+//!
+//! | module | what |
+//! |---|---|
+//! | [`model`] | the contract with models ([`FmuModel`], [`Phase`], [`StepOutcome`], [`Log`]) |
+//! | [`export`] | [`export_fmi2!`]: the 34 `extern "C"` symbols, each a one-line forward |
+//! | [`api`] | the FMI functions as generic Rust functions: `catch_unwind`, NULL checks, state checks, argument checks |
+//! | [`state`] | the Co-Simulation state machine as bit masks per function (table in its docs) |
+//! | [`instance`] | the object behind `fmi2Component` and the body of each function |
+//! | [`snapshot`] | `fmi2FMUstate` objects and the serialized-state format |
+//! | [`logging`] | the importer's logger, log categories and filtering |
+//! | [`uri`] | `fmuResourceLocation` → path |
+//! | [`mod@guid`] | deterministic GUIDs shared by the packager and the model |
+//! | [`types`] | the fmi2 C types |
+//! | `harness` (feature `harness`) | a C-ABI misuse harness for any FMU shared object |
+//!
+//! # Life of a call
+//!
+//! `fmi2DoStep(c, t, h, …)` in an FMU's shared object is
+//! `api::do_step::<Model>(c, t, h, …)`, which catches panics, resolves `c` (NULL →
+//! `fmi2Error`), checks that `fmi2DoStep` is allowed in the instance's [`state::State`]
+//! (else logs "illegal call in state …" and returns `fmi2Error`), checks `t` and `h`, and
+//! calls [`FmuModel::do_step`]. Every `fmi2Error` is logged with a reason (category
+//! `logStatusError`, delivered even when debug logging is off) and puts the instance into
+//! the `Error` state, from which `fmi2Reset`, `fmi2SetFMUstate` or `fmi2FreeInstance` lead
+//! out. See [`api`] for ownership of the component pointer and the safety invariants.
+//!
+//! # What the FMU declares
+//!
+//! [`CAPABILITIES`] lists the `<CoSimulation>` attributes that match this plumbing, and
+//! [`logging::LOG_CATEGORIES`] the `<LogCategories>`; the `modelDescription.xml` writer
+//! should take them from there rather than restate them.
+
+#![deny(unsafe_op_in_unsafe_fn)]
+
+pub mod api;
+pub mod export;
+pub mod guid;
+pub mod instance;
+pub mod logging;
 pub mod model;
+pub mod snapshot;
+pub mod state;
+pub mod types;
+pub mod uri;
+
+#[cfg(feature = "harness")]
+pub mod harness;
+
+pub use guid::guid;
 pub use model::{FmuModel, Log, Phase, StepOutcome};
+
+/// The `<CoSimulation>` capability flags that describe FMUs built with this plumbing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoSimulationCapabilities {
+    /// `needsExecutionTool`: false (self-contained shared object).
+    pub needs_execution_tool: bool,
+    /// `canHandleVariableCommunicationStepSize`: true (any positive `h` per step).
+    pub can_handle_variable_communication_step_size: bool,
+    /// `canInterpolateInputs`: false (`fmi2SetRealInputDerivatives` → fmi2Error).
+    pub can_interpolate_inputs: bool,
+    /// `maxOutputDerivativeOrder`: 0 (`fmi2GetRealOutputDerivatives` → fmi2Error).
+    pub max_output_derivative_order: u32,
+    /// `canRunAsynchronuously` (sic): false (`fmi2CancelStep` is never legal).
+    pub can_run_asynchronuously: bool,
+    /// `canBeInstantiatedOnlyOncePerProcess`: false (instances share nothing).
+    pub can_be_instantiated_only_once_per_process: bool,
+    /// `canNotUseMemoryManagementFunctions`: true (Rust's allocator is used).
+    pub can_not_use_memory_management_functions: bool,
+    /// `canGetAndSetFMUstate`: true.
+    pub can_get_and_set_fmu_state: bool,
+    /// `canSerializeFMUstate`: true.
+    pub can_serialize_fmu_state: bool,
+    /// `providesDirectionalDerivative`: false (`fmi2GetDirectionalDerivative` → fmi2Error).
+    pub provides_directional_derivative: bool,
+}
+
+/// The capabilities of every FMU exported with [`export_fmi2!`].
+pub const CAPABILITIES: CoSimulationCapabilities = CoSimulationCapabilities {
+    needs_execution_tool: false,
+    can_handle_variable_communication_step_size: true,
+    can_interpolate_inputs: false,
+    max_output_derivative_order: 0,
+    can_run_asynchronuously: false,
+    can_be_instantiated_only_once_per_process: false,
+    can_not_use_memory_management_functions: true,
+    can_get_and_set_fmu_state: true,
+    can_serialize_fmu_state: true,
+    provides_directional_derivative: false,
+};

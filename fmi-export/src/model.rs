@@ -42,6 +42,11 @@ pub trait Log {
 /// state (used for `fmi2GetFMUstate`); keep large immutable data behind `Arc` so cloning
 /// is cheap.
 pub trait FmuModel: Clone + Send + 'static {
+    /// Log categories the model uses in [`Log::log`] besides the plumbing's own
+    /// (`crate::logging::LOG_CATEGORIES`), as (name, description) for `<LogCategories>`.
+    /// `fmi2SetDebugLogging` accepts them without a warning.
+    const LOG_CATEGORIES: &'static [(&'static str, &'static str)] = &[];
+
     /// Build the model from its resources folder (the `resources/` of the unpacked FMU,
     /// as given by `fmuResourceLocation`). Errors name the file and the problem.
     fn instantiate(resources: &Path, log: &dyn Log) -> Result<Self, String>;

@@ -1,1 +1,223 @@
-//! The bridge model as an FMI 2.0 Co-Simulation FMU.
+//! The bridge with its track as an FMI 2.0 Co-Simulation FMU: only the model — the FMI
+//! plumbing is `fmi-export`'s, the equations are `tbi_dynamics::solver::partitioned::BridgeSide`.
+//!
+//! Resources: `bridge.json` ([`BridgeResources`]: modal bridge, probes, wheelset count) and,
+//! when the track is not smooth, `track.csv` (irregularity record). Variables: see
+//! [`tbi_dynamics::interface`]. Each `fmi2DoStep(t, h)` is one Newmark step of size `h` with
+//! the wheelset positions, speeds and forces at `t + h`.
+
+use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
+use tbi_dynamics::interface::{
+    bridge_vr, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
+};
+use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
+use tbi_dynamics::track::{RailProfile, Smooth};
+
+/// GUID of a bridge FMU with these resource bytes (`bridge.json` then `track.csv`).
+pub fn guid_for(resource_bytes: &[u8]) -> String {
+    fmi_export::guid(BRIDGE_ID, BUILD_ID, resource_bytes)
+}
+
+/// The bridge FMU's model.
+#[derive(Clone)]
+pub struct BridgeFmu {
+    res: Arc<BridgeResources>,
+    guid: String,
+    side: BridgeSide,
+    inputs: Vec<WheelInput>,
+    initialized: bool,
+    outputs: Vec<f64>,
+    dirty: bool,
+}
+
+#[derive(Serialize, Deserialize)]
+struct Saved {
+    state: ModalState,
+    inputs: Vec<WheelInput>,
+    initialized: bool,
+}
+
+impl BridgeFmu {
+    /// Build from resource data (used by `instantiate` and by tests).
+    pub fn from_parts(res: BridgeResources, track: Arc<dyn RailProfile>, guid: String) -> Self {
+        let nw = res.n_wheelsets;
+        let n_out = 9 * nw + 5 * res.probes.len();
+        let side = BridgeSide::new(Arc::new(res.modal.clone()), track);
+        BridgeFmu {
+            inputs: (0..nw)
+                .map(|_| WheelInput {
+                    x: -1.0e6,
+                    ..Default::default()
+                })
+                .collect(),
+            res: Arc::new(res),
+            guid,
+            side,
+            initialized: false,
+            outputs: vec![0.0; n_out],
+            dirty: true,
+        }
+    }
+
+    fn refresh(&mut self) {
+        if !self.dirty {
+            return;
+        }
+        if !self.initialized {
+            self.side.initialize(&self.inputs);
+        }
+        let nw = self.res.n_wheelsets;
+        for w in 0..nw {
+            let i = self.inputs[w];
+            let r = self.side.rail(i.x, i.vx);
+            for k in 0..3 {
+                self.outputs[9 * w + k] = r[0][k];
+                self.outputs[9 * w + 3 + k] = r[1][k];
+                self.outputs[9 * w + 6 + k] = r[2][k];
+            }
+        }
+        for (p, probe) in self.res.probes.iter().enumerate() {
+            let v = self.side.probe(probe.x_m);
+            let o = 9 * nw + 5 * p;
+            self.outputs[o..o + 5].copy_from_slice(&[v.y, v.z, v.theta, v.y_dd, v.z_dd]);
+        }
+        self.dirty = false;
+    }
+}
+
+impl FmuModel for BridgeFmu {
+    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+        let path = resources.join(BRIDGE_RESOURCE);
+        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let res: BridgeResources = serde_json::from_slice(&bytes)
+            .map_err(|e| format!("{}: line {}: {e}", path.display(), e.line()))?;
+        let mut all = bytes;
+        let track: Arc<dyn RailProfile> = if res.has_track_record {
+            let tp = resources.join(TRACK_RESOURCE);
+            let text = std::fs::read(&tp).map_err(|e| format!("{}: {e}", tp.display()))?;
+            let record = tbi_track::Record::parse(
+                &String::from_utf8_lossy(&text),
+                &tp.display().to_string(),
+            )
+            .map_err(|e| e.to_string())?;
+            all.extend_from_slice(&text);
+            Arc::new(tbi_track::Irregularity::Record(record))
+        } else {
+            Arc::new(Smooth)
+        };
+        let guid = guid_for(&all);
+        Ok(BridgeFmu::from_parts(res, track, guid))
+    }
+
+    fn guid(&self) -> String {
+        self.guid.clone()
+    }
+
+    fn exit_initialization(&mut self) -> Result<(), String> {
+        self.side.initialize(&self.inputs);
+        self.initialized = true;
+        self.dirty = true;
+        Ok(())
+    }
+
+    fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
+        let nw = self.res.n_wheelsets;
+        if (vr as usize) >= 5 * nw {
+            return Err(format!(
+                "value reference {vr} is not an input of the bridge FMU"
+            ));
+        }
+        if !value.is_finite() {
+            return Err(format!("input {} = {value} is not finite", self.name(vr)));
+        }
+        let (w, k) = (vr as usize / 5, vr as usize % 5);
+        let i = &mut self.inputs[w];
+        match k {
+            0 => i.x = value,
+            1 => i.vx = value,
+            _ => i.f[k - 2] = value,
+        }
+        self.dirty = true;
+        Ok(())
+    }
+
+    fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+        let nw = self.res.n_wheelsets;
+        let vr = vr as usize;
+        if vr < 5 * nw {
+            let i = self.inputs[vr / 5];
+            return Ok(match vr % 5 {
+                0 => i.x,
+                1 => i.vx,
+                k => i.f[k - 2],
+            });
+        }
+        let o = vr - 5 * nw;
+        if o >= self.outputs.len() {
+            return Err(format!("unknown value reference {vr}"));
+        }
+        self.refresh();
+        Ok(self.outputs[o])
+    }
+
+    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
+        self.side.step(h, &self.inputs);
+        self.dirty = true;
+        if !self.side.state.q.iter().all(|q| q.is_finite()) {
+            return Err("bridge response became non-finite".into());
+        }
+        Ok(StepOutcome::Ok)
+    }
+
+    fn reset(&mut self) -> Result<(), String> {
+        let fresh = BridgeFmu::from_parts(
+            (*self.res).clone(),
+            self.side.track.clone(),
+            self.guid.clone(),
+        );
+        *self = fresh;
+        Ok(())
+    }
+
+    fn serialize_state(&self) -> Vec<u8> {
+        serde_json::to_vec(&Saved {
+            state: self.side.state.clone(),
+            inputs: self.inputs.clone(),
+            initialized: self.initialized,
+        })
+        .expect("state serialises")
+    }
+
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("bridge state: {e}"))?;
+        if s.inputs.len() != self.res.n_wheelsets || s.state.q.len() != self.res.modal.n_modes() {
+            return Err("bridge state does not match this FMU's size".into());
+        }
+        self.side.state = s.state;
+        self.inputs = s.inputs;
+        self.initialized = s.initialized;
+        self.dirty = true;
+        Ok(())
+    }
+}
+
+impl BridgeFmu {
+    fn name(&self, vr: u32) -> String {
+        let nw = self.res.n_wheelsets;
+        if (vr as usize) < 5 * nw {
+            let (w, k) = (vr as usize / 5, vr as usize % 5);
+            return format!(
+                "ws[{}].{}",
+                w + 1,
+                tbi_dynamics::interface::WHEEL_CHANNELS[k].0
+            );
+        }
+        let _ = bridge_vr::probe_output;
+        format!("vr {vr}")
+    }
+}
+
+fmi_export::export_fmi2!(BridgeFmu, "bridge");

@@ -1,0 +1,163 @@
+//! Deterministic GUIDs tying `modelDescription.xml` to the binary and its resources.
+//!
+//! [`guid`] hashes the model identifier, a build identifier and the bytes of the resources
+//! that define the model with 128-bit FNV-1a and formats the digest as an RFC 9562 UUID
+//! of version 8 ("custom"): the version nibble is set to `8` and the variant bits to
+//! `10`, so 122 bits of the digest remain. The FMU packager (writing `guid="…"` into
+//! `modelDescription.xml`) and the model (answering [`crate::FmuModel::guid`] from the
+//! resources it reads at instantiation) call the same function with the same inputs and
+//! obtain the same string; `fmi2Instantiate` refuses a GUID that differs.
+//!
+//! The digest input is `"fmi-export/guid/v1\0"` followed by each argument as a
+//! little-endian `u64` byte length and the bytes, so no two different argument triples
+//! produce the same input. FNV-1a is not a cryptographic hash: the GUID detects a
+//! mismatched or stale `modelDescription.xml`, it does not authenticate anything.
+//!
+//! What to pass as `build_id` is the caller's choice; it must be computable by both sides
+//! (for example `env!("CARGO_PKG_VERSION")` of the FMU crate, or that plus a format
+//! revision of the resource files).
+
+const FNV128_OFFSET: u128 = 0x6c62272e07bb014262b821756295c58d;
+const FNV128_PRIME: u128 = 0x0000000001000000000000000000013b;
+const FNV64_OFFSET: u64 = 0xcbf29ce484222325;
+const FNV64_PRIME: u64 = 0x100000001b3;
+
+/// Incremental 128-bit FNV-1a.
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv1a128(u128);
+
+impl Default for Fnv1a128 {
+    fn default() -> Self {
+        Fnv1a128(FNV128_OFFSET)
+    }
+}
+
+impl Fnv1a128 {
+    pub fn update(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u128::from(b);
+            self.0 = self.0.wrapping_mul(FNV128_PRIME);
+        }
+    }
+
+    pub fn finish(self) -> u128 {
+        self.0
+    }
+}
+
+/// 64-bit FNV-1a of `bytes` (used for the FMU-state header and checksum).
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(FNV64_OFFSET, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(FNV64_PRIME)
+    })
+}
+
+/// The GUID of an FMU: a UUID-formatted (`xxxxxxxx-xxxx-8xxx-yxxx-xxxxxxxxxxxx`,
+/// lowercase, no braces) digest of `model_identifier`, `build_id` and `resource_bytes`.
+/// Deterministic across platforms and runs; see the module documentation.
+pub fn guid(model_identifier: &str, build_id: &str, resource_bytes: &[u8]) -> String {
+    let mut h = Fnv1a128::default();
+    h.update(b"fmi-export/guid/v1\0");
+    for part in [
+        model_identifier.as_bytes(),
+        build_id.as_bytes(),
+        resource_bytes,
+    ] {
+        h.update(&(part.len() as u64).to_le_bytes());
+        h.update(part);
+    }
+    format_uuid_v8(h.finish())
+}
+
+fn format_uuid_v8(digest: u128) -> String {
+    // version (bits 76..80 from the least significant end) = 8, variant (bits 62..64) = 0b10
+    let v = (digest & !(0xF << 76) | (0x8 << 76)) & !(0b11 << 62) | (0b10 << 62);
+    let hex = format!("{v:032x}");
+    format!(
+        "{}-{}-{}-{}-{}",
+        &hex[0..8],
+        &hex[8..12],
+        &hex[12..16],
+        &hex[16..20],
+        &hex[20..32]
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fnv128(bytes: &[u8]) -> u128 {
+        let mut h = Fnv1a128::default();
+        h.update(bytes);
+        h.finish()
+    }
+
+    #[test]
+    fn fnv_reference_vectors() {
+        // Published FNV-1a test vectors (empty string and "a").
+        assert_eq!(fnv128(b""), 0x6c62272e07bb014262b821756295c58d);
+        assert_eq!(fnv128(b"a"), 0xd228cb696f1a8caf78912b704e4a8964);
+        assert_eq!(fnv1a64(b""), 0xcbf29ce484222325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x85944171f73967e8);
+    }
+
+    #[test]
+    fn guid_is_a_version_8_uuid() {
+        let g = guid("bridge", "0.1.0", b"E = 2.1e11\n");
+        assert_eq!(g.len(), 36);
+        let groups: Vec<&str> = g.split('-').collect();
+        assert_eq!(
+            groups.iter().map(|s| s.len()).collect::<Vec<_>>(),
+            vec![8, 4, 4, 4, 12]
+        );
+        assert!(g
+            .chars()
+            .all(|c| c == '-' || c.is_ascii_digit() || ('a'..='f').contains(&c)));
+        assert!(groups[2].starts_with('8'), "{g}");
+        assert!(
+            matches!(groups[3].as_bytes()[0], b'8' | b'9' | b'a' | b'b'),
+            "{g}"
+        );
+    }
+
+    #[test]
+    fn guid_is_deterministic_and_sensitive_to_every_input() {
+        let base = guid("m", "1", b"data");
+        assert_eq!(base, guid("m", "1", b"data"));
+        assert_ne!(base, guid("n", "1", b"data"));
+        assert_ne!(base, guid("m", "2", b"data"));
+        assert_ne!(base, guid("m", "1", b"datb"));
+        // Length prefixes: moving bytes between arguments changes the GUID.
+        assert_ne!(guid("ab", "c", b""), guid("a", "bc", b""));
+        assert_ne!(guid("a", "", b"b"), guid("a", "b", b""));
+    }
+
+    #[test]
+    fn guid_matches_the_documented_construction() {
+        // Recompute the digest input by hand from the module documentation.
+        let mut input = b"fmi-export/guid/v1\0".to_vec();
+        for part in [&b"testmodel"[..], b"0.1.0", b"x = 1\n"] {
+            input.extend_from_slice(&(part.len() as u64).to_le_bytes());
+            input.extend_from_slice(part);
+        }
+        let digest = fnv128(&input);
+        let hex = format!("{digest:032x}");
+        let g = guid("testmodel", "0.1.0", b"x = 1\n");
+        let g_hex: String = g.chars().filter(|c| *c != '-').collect();
+        // All nibbles except the version nibble and the two variant bits are the digest's.
+        for (i, (a, b)) in hex.chars().zip(g_hex.chars()).enumerate() {
+            match i {
+                12 => assert_eq!(b, '8'),
+                16 => {
+                    let da = a.to_digit(16).unwrap();
+                    let db = b.to_digit(16).unwrap();
+                    assert_eq!(da & 0b0011, db & 0b0011);
+                    assert_eq!(db >> 2, 0b10);
+                }
+                _ => assert_eq!(a, b, "nibble {i}"),
+            }
+        }
+    }
+}
