@@ -1,1 +1,307 @@
-//! The train model as an FMI 2.0 Co-Simulation FMU.
+//! The train as an FMI 2.0 Co-Simulation FMU: only the model — the FMI plumbing is
+//! `fmi-export`'s, the equations are `tbi_dynamics::solver::partitioned::TrainSide`.
+//!
+//! Resources: `train.json` ([`TrainResources`]: vehicles, speed, start position, hunting).
+//! Parameters (speed, start position, hunting, the coach's Table 1 properties) may be changed
+//! before `fmi2ExitInitializationMode`, which builds the vehicles. Variables: see
+//! [`tbi_dynamics::interface`]. Each `fmi2DoStep(t, h)` is one Newmark step of size `h` with
+//! the rail motion at `t + h`.
+
+use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
+use tbi_dynamics::interface::{
+    train_parameters, train_vr, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
+};
+use tbi_dynamics::solver::partitioned::TrainSide;
+use tbi_dynamics::solver::VehicleState;
+use tbi_dynamics::vehicle::WheelLoads;
+
+/// GUID of a train FMU with these resource bytes (`train.json`).
+pub fn guid_for(resource_bytes: &[u8]) -> String {
+    fmi_export::guid(TRAIN_ID, BUILD_ID, resource_bytes)
+}
+
+/// The train FMU's model.
+#[derive(Clone)]
+pub struct TrainFmu {
+    original: Arc<TrainResources>,
+    res: TrainResources,
+    guid: String,
+    nw: usize,
+    start_time: f64,
+    /// Rail motion inputs (u, u̇, ü) per wheelset.
+    rails: Vec<[Vector3<f64>; 3]>,
+    side: Option<TrainSide>,
+    /// Built from the current parameters but not yet initialised for stepping.
+    initialized: bool,
+    outputs: Vec<f64>,
+    dirty: bool,
+}
+
+#[derive(Serialize, Deserialize)]
+struct Saved {
+    res: TrainResources,
+    start_time: f64,
+    rails: Vec<[Vector3<f64>; 3]>,
+    initialized: bool,
+    t: f64,
+    states: Option<Vec<VehicleState>>,
+    side_rails: Option<Vec<[Vector3<f64>; 3]>>,
+}
+
+impl TrainFmu {
+    /// Build from resource data (used by `instantiate` and by tests).
+    pub fn from_parts(res: TrainResources, guid: String) -> Self {
+        let nw = res.spec.n_wheelsets();
+        let n_out = 9 * nw + 2 * res.spec.n_vehicles();
+        TrainFmu {
+            original: Arc::new(res.clone()),
+            res,
+            guid,
+            nw,
+            start_time: 0.0,
+            rails: vec![[Vector3::zeros(); 3]; nw],
+            side: None,
+            initialized: false,
+            outputs: vec![0.0; n_out],
+            dirty: true,
+        }
+    }
+
+    fn build_side(&self) -> Result<TrainSide, String> {
+        let r = &self.res;
+        if !(r.speed_m_s.is_finite() && r.speed_m_s >= 0.0) {
+            return Err(format!(
+                "parameter speed = {} must be finite and ≥ 0",
+                r.speed_m_s
+            ));
+        }
+        // the train's position is x0 at the start time
+        let x0 = r.x0_m - r.speed_m_s * self.start_time;
+        let train = r.spec.build(r.speed_m_s, x0, &r.hunting)?;
+        Ok(TrainSide::new(Arc::new(train)))
+    }
+
+    fn refresh(&mut self) -> Result<(), String> {
+        if !self.dirty {
+            return Ok(());
+        }
+        if !self.initialized {
+            let mut side = self.build_side()?;
+            side.initialize(self.start_time, &self.rails);
+            self.side = Some(side);
+        }
+        let side = self
+            .side
+            .as_ref()
+            .expect("built above or at initialisation");
+        let t = side.t;
+        let nw = self.nw;
+        for w in 0..nw {
+            let f = side.force(w);
+            let ws = side.wheelsets[w];
+            let model = &side.train.vehicles[ws.vehicle].model;
+            let loads = WheelLoads::from_force(
+                &f,
+                model.wheelsets[ws.local].p0.z,
+                model.contact_distance_m,
+            );
+            let o = 9 * w;
+            self.outputs[o..o + 9].copy_from_slice(&[
+                side.x(w, t),
+                side.train.speed_m_s,
+                f.x,
+                f.y,
+                f.z,
+                loads.p_left,
+                loads.p_right,
+                loads.derail,
+                loads.offload,
+            ]);
+        }
+        for (i, (tv, s)) in side.train.vehicles.iter().zip(&side.states).enumerate() {
+            let o = 9 * nw + 2 * i;
+            self.outputs[o] = tv.model.body.lateral.map(|d| s.vdd[d]).unwrap_or(0.0);
+            self.outputs[o + 1] = tv.model.body.vertical.map(|d| s.vdd[d]).unwrap_or(0.0);
+        }
+        self.dirty = false;
+        Ok(())
+    }
+
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), String> {
+        let names = train_parameters(&self.res);
+        let (name, ..) = names
+            .get(index)
+            .ok_or_else(|| format!("unknown parameter index {index}"))?;
+        match index {
+            0 => self.res.speed_m_s = value,
+            1 => self.res.x0_m = value,
+            2 => self.res.hunting.amplitude_m = value,
+            3 => self.res.hunting.wavelength_m = value,
+            4 => {
+                if value < 0.0 || value.fract() != 0.0 || value > 9.0e15 {
+                    return Err(format!(
+                        "parameter hunting.seed = {value} must be a non-negative integer"
+                    ));
+                }
+                self.res.hunting.seed = value as u64
+            }
+            _ => {
+                let field = name.trim_start_matches("coach.").to_string();
+                match &mut self.res.spec {
+                    TrainSpec::Coaches { params, .. } => {
+                        *params
+                            .field_mut(&field)
+                            .ok_or_else(|| format!("unknown parameter {name}"))? = value
+                    }
+                    _ => return Err(format!("unknown parameter {name}")),
+                }
+            }
+        }
+        // validate now so that the error names the parameter
+        if let Err(e) = self.build_side() {
+            return Err(format!("parameter {name} = {value}: {e}"));
+        }
+        Ok(())
+    }
+}
+
+impl FmuModel for TrainFmu {
+    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+        let path = resources.join(TRAIN_RESOURCE);
+        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let res: TrainResources = serde_json::from_slice(&bytes)
+            .map_err(|e| format!("{}: line {}: {e}", path.display(), e.line()))?;
+        let guid = guid_for(&bytes);
+        let fmu = TrainFmu::from_parts(res, guid);
+        fmu.build_side()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(fmu)
+    }
+
+    fn guid(&self) -> String {
+        self.guid.clone()
+    }
+
+    fn setup_experiment(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+        self.start_time = start_time;
+        self.dirty = true;
+        Ok(())
+    }
+
+    fn exit_initialization(&mut self) -> Result<(), String> {
+        let mut side = self.build_side()?;
+        side.initialize(self.start_time, &self.rails);
+        self.side = Some(side);
+        self.initialized = true;
+        self.dirty = true;
+        Ok(())
+    }
+
+    fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), String> {
+        if !value.is_finite() {
+            return Err(format!("value reference {vr}: {value} is not finite"));
+        }
+        let nw = self.nw;
+        if (vr as usize) < 9 * nw {
+            let (w, k) = (vr as usize / 9, vr as usize % 9);
+            self.rails[w][k / 3][k % 3] = value;
+            self.dirty = true;
+            return Ok(());
+        }
+        if vr >= train_vr::PARAM_BASE {
+            if phase == Phase::Stepping {
+                return Err(format!(
+                    "parameter (value reference {vr}) is fixed after initialisation"
+                ));
+            }
+            self.set_parameter((vr - train_vr::PARAM_BASE) as usize, value)?;
+            self.dirty = true;
+            return Ok(());
+        }
+        Err(format!(
+            "value reference {vr} is not an input or parameter of the train FMU"
+        ))
+    }
+
+    fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+        let nw = self.nw;
+        let v = vr as usize;
+        if v < 9 * nw {
+            return Ok(self.rails[v / 9][(v % 9) / 3][v % 3]);
+        }
+        if vr >= train_vr::PARAM_BASE {
+            let p = train_parameters(&self.res);
+            return p
+                .get((vr - train_vr::PARAM_BASE) as usize)
+                .map(|x| x.3)
+                .ok_or_else(|| format!("unknown value reference {vr}"));
+        }
+        let o = v - 9 * nw;
+        if o >= self.outputs.len() {
+            return Err(format!("unknown value reference {vr}"));
+        }
+        self.refresh()?;
+        Ok(self.outputs[o])
+    }
+
+    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
+        let side = self.side.as_mut().ok_or("not initialised")?;
+        side.step(h, &self.rails);
+        if !side
+            .states
+            .iter()
+            .all(|s| s.v.iter().all(|x| x.is_finite()))
+        {
+            return Err("vehicle response became non-finite".into());
+        }
+        self.dirty = true;
+        Ok(StepOutcome::Ok)
+    }
+
+    fn reset(&mut self) -> Result<(), String> {
+        *self = TrainFmu::from_parts((*self.original).clone(), self.guid.clone());
+        Ok(())
+    }
+
+    fn serialize_state(&self) -> Vec<u8> {
+        serde_json::to_vec(&Saved {
+            res: self.res.clone(),
+            start_time: self.start_time,
+            rails: self.rails.clone(),
+            initialized: self.initialized,
+            t: self.side.as_ref().map(|s| s.t).unwrap_or(self.start_time),
+            states: self.side.as_ref().map(|s| s.states.clone()),
+            side_rails: self.side.as_ref().map(|s| s.rails.clone()),
+        })
+        .expect("state serialises")
+    }
+
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("train state: {e}"))?;
+        if s.rails.len() != self.nw {
+            return Err("train state does not match this FMU's size".into());
+        }
+        self.res = s.res;
+        self.start_time = s.start_time;
+        self.rails = s.rails;
+        self.initialized = s.initialized;
+        self.side = match (s.states, s.side_rails) {
+            (Some(states), Some(rails)) => {
+                let mut side = self.build_side()?;
+                side.states = states;
+                side.rails = rails;
+                side.t = s.t;
+                Some(side)
+            }
+            _ => None,
+        };
+        self.dirty = true;
+        Ok(())
+    }
+}
+
+fmi_export::export_fmi2!(TrainFmu, "train");
