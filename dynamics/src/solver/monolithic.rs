@@ -46,6 +46,8 @@ struct VehicleCache {
     chol: Option<Cholesky<f64, Dyn>>,
     /// S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w).
     s: DMatrix<f64>,
+    /// The non-zero entries of S by row (empty when S = 0).
+    s_rows: Vec<Vec<(usize, f64)>>,
     /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
     h: DMatrix<f64>,
 }
@@ -77,6 +79,10 @@ pub struct Monolithic {
     presc: Vec<[Vector3<f64>; 3]>,
     cache: Vec<VehicleCache>,
     first_ws: Vec<usize>,
+    on: Vec<bool>,
+    work: Work,
+    iterative_steps: usize,
+    cg_iterations: std::cell::Cell<usize>,
 }
 
 impl Monolithic {
@@ -118,7 +124,12 @@ impl Monolithic {
             presc: vec![[Vector3::zeros(); 3]; nw],
             cache,
             first_ws,
+            on: vec![false; nw],
+            work: Work::default(),
+            iterative_steps: 0,
+            cg_iterations: std::cell::Cell::new(0),
         };
+        s.work = Work::new(nb, &s.train);
         s.update_geometry(0.0);
         for w in 0..nw {
             s.rail[w] = s.presc[w];
@@ -153,25 +164,10 @@ impl Monolithic {
         for (w, ws) in self.wheelsets.iter().enumerate() {
             let x = self.train.x_at(ws.offset_m, t);
             self.x[w] = x;
-            self.bridge
+            self.on[w] = self
+                .bridge
                 .rail_shapes(x, &mut self.psi[w * nb..(w + 1) * nb]);
             self.presc[w] = rail_prescribed(&*self.track, &self.train, w, x, t);
-        }
-    }
-
-    fn psi_mul(psi: &[[f64; 3]], q: &DVector<f64>) -> Vector3<f64> {
-        let mut u = Vector3::zeros();
-        for (p, qn) in psi.iter().zip(q.iter()) {
-            u.x += p[0] * qn;
-            u.y += p[1] * qn;
-            u.z += p[2] * qn;
-        }
-        u
-    }
-
-    fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut DVector<f64>) {
-        for (o, p) in out.iter_mut().zip(psi) {
-            *o += p[0] * f.x + p[1] * f.y + p[2] * f.z;
         }
     }
 
@@ -191,7 +187,7 @@ impl Monolithic {
             let [u, ud, udd] = self.rail[w];
             let vs = &self.vehicles[ws.vehicle];
             let f = model.wheel_force(ws.local, &vs.v, &vs.vd, &u, &ud, &udd);
-            Self::psi_tr_add(psi, &f, &mut rhs);
+            psi_tr_add(psi, &f, rhs.as_mut_slice());
             for i in 0..nb {
                 let mp = c.m_w * Vector3::from(psi[i]);
                 for j in 0..nb {
@@ -211,9 +207,9 @@ impl Monolithic {
             let ws = self.wheelsets[w];
             let psi = self.psi_w(w);
             let p = self.presc[w];
-            let u = Self::psi_mul(psi, &self.q) + p[0];
-            let ud = Self::psi_mul(psi, &self.qd) + p[1];
-            let udd = Self::psi_mul(psi, &self.qdd) + p[2];
+            let u = psi_mul(psi, self.q.as_slice()) + p[0];
+            let ud = psi_mul(psi, self.qd.as_slice()) + p[1];
+            let udd = psi_mul(psi, self.qdd.as_slice()) + p[2];
             self.rail[w] = [u, ud, udd];
             let vs = &self.vehicles[ws.vehicle];
             self.forces[w] = self.train.vehicles[ws.vehicle]
@@ -228,71 +224,102 @@ impl Monolithic {
         let nb = self.q.len();
         let t1 = self.t + nm.h;
         self.update_geometry(t1);
-        // Predictors of the bridge.
-        let qm = DVector::from_fn(nb, |n, _| nm.mass_pred(self.q[n], self.qd[n], self.qdd[n]));
-        let qc = DVector::from_fn(nb, |n, _| nm.damp_pred(self.q[n], self.qd[n]));
-        let mut a = DMatrix::<f64>::zeros(nb, nb);
-        let mut bq = DVector::zeros(nb);
+        let mut w = std::mem::take(&mut self.work);
+        // Bridge predictors and the diagonal part.
         for n in 0..nb {
             let c = 2.0 * self.zeta[n] * self.omega[n];
-            a[(n, n)] = nm.a0 + nm.a1 * c + self.omega[n].powi(2);
-            bq[n] = qm[n] + c * qc[n];
+            w.qm[n] = nm.mass_pred(self.q[n], self.qd[n], self.qdd[n]);
+            w.qc[n] = nm.damp_pred(self.q[n], self.qd[n]);
+            w.dhat[n] = nm.a0 + nm.a1 * c + self.omega[n] * self.omega[n];
+            w.bq[n] = w.qm[n] + c * w.qc[n];
         }
-        let mut bvs: Vec<(DVector<f64>, DMatrix<f64>)> = Vec::with_capacity(self.vehicles.len());
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let model = &tv.model;
             let cache = &self.cache[i];
             let vs = &self.vehicles[i];
-            let nw_i = model.wheelsets.len();
             let f0 = self.first_ws[i];
-            // vehicle predictors
-            let vm = nm.a0 * &vs.v + nm.a2 * &vs.vd + &vs.vdd;
-            let vc = nm.a1 * &vs.v + &vs.vd;
-            let mut bv = &model.m * &vm + &model.c * &vc;
-            // rail-space quantities per wheelset
-            let mut u_block = DMatrix::<f64>::zeros(3 * nw_i, nb);
-            for l in 0..nw_i {
-                let w = f0 + l;
-                let c = &model.wheelsets[l];
-                let psi = &self.psi[w * nb..(w + 1) * nb];
-                let [r, rd, rdd] = self.presc[w];
-                let pv = Self::psi_mul(psi, &qc); // Ψ (a1 q + q̇)
-                let pm = Self::psi_mul(psi, &qm); // Ψ (a0 q + a2 q̇ + q̈)
-                if model.ndof() > 0 {
-                    bv -= &c.k_vw * r + &c.c_vw * (rd - pv);
+            let n = model.ndof();
+            let bv = &mut w.bv[i];
+            let vc = &mut w.vc[i];
+            if n > 0 {
+                let vm = &mut w.vm[i];
+                for k in 0..n {
+                    vm[k] = nm.mass_pred(vs.v[k], vs.vd[k], vs.vdd[k]);
+                    vc[k] = nm.damp_pred(vs.v[k], vs.vd[k]);
                 }
-                let mut g =
-                    c.p0 - c.m_w * rdd - c.k_ww * r - c.c_ww * rd + c.m_w * pm + c.c_ww * pv;
-                if model.ndof() > 0 {
-                    g += c.c_vw.tr_mul(&vc);
+                bv.gemv(1.0, &model.m, vm, 0.0);
+                bv.gemv(1.0, &model.c, vc, 1.0);
+            }
+            for (l, c) in model.wheelsets.iter().enumerate() {
+                let ws = f0 + l;
+                let [r, rd, rdd] = self.presc[ws];
+                let on = self.on[ws];
+                let psi = &self.psi[ws * nb..(ws + 1) * nb];
+                let (pv, pm) = if on {
+                    (psi_mul(psi, w.qc.as_slice()), psi_mul(psi, w.qm.as_slice()))
+                } else {
+                    (Vector3::zeros(), Vector3::zeros())
+                };
+                if n > 0 {
+                    bv.gemv(-1.0, &c.k_vw, &r, 1.0);
+                    bv.gemv(-1.0, &c.c_vw, &(rd - pv), 1.0);
                 }
-                Self::psi_tr_add(psi, &g, &mut bq);
-                for (n, p) in psi.iter().enumerate() {
-                    u_block[(3 * l, n)] = p[0];
-                    u_block[(3 * l + 1, n)] = p[1];
-                    u_block[(3 * l + 2, n)] = p[2];
+                if on {
+                    let mut g = c.p0 - c.m_w * (rdd - pm) - c.k_ww * r - c.c_ww * (rd - pv);
+                    if n > 0 {
+                        g += c.c_vw.tr_mul(vc);
+                    }
+                    psi_tr_add(psi, &g, w.bq.as_mut_slice());
                 }
             }
-            if model.ndof() > 0 {
-                let z = &cache.h * &bv;
-                bq -= u_block.tr_mul(&z);
+            if n > 0 {
+                let z = &mut w.z[i];
+                z.gemv(1.0, &cache.h, bv, 0.0);
+                for l in 0..model.wheelsets.len() {
+                    let ws = f0 + l;
+                    if self.on[ws] {
+                        let zl = Vector3::new(z[3 * l], z[3 * l + 1], z[3 * l + 2]);
+                        psi_tr_add(
+                            &self.psi[ws * nb..(ws + 1) * nb],
+                            &(-zl),
+                            w.bq.as_mut_slice(),
+                        );
+                    }
+                }
             }
-            let su = &cache.s * &u_block;
-            a += u_block.tr_mul(&su);
-            bvs.push((bv, u_block));
         }
-        let q1 = a
-            .cholesky()
-            .expect("reduced bridge matrix is positive definite")
-            .solve(&bq);
-        // Back-substitute the vehicles.
-        for (i, (bv, u_block)) in bvs.into_iter().enumerate() {
-            let cache = &self.cache[i];
-            if self.train.vehicles[i].model.ndof() == 0 {
+        let q1 = match self.solve_iterative(&mut w) {
+            Some(q1) => {
+                self.iterative_steps += 1;
+                q1
+            }
+            None => self.solve_direct(&w),
+        };
+        // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1.
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let n = tv.model.ndof();
+            if n == 0 {
                 continue;
             }
+            let cache = &self.cache[i];
+            let f0 = self.first_ws[i];
+            let nwi = tv.model.wheelsets.len();
+            let uq = &mut w.z[i];
+            for l in 0..nwi {
+                let ws = f0 + l;
+                let p = if self.on[ws] {
+                    psi_mul(&self.psi[ws * nb..(ws + 1) * nb], q1.as_slice())
+                } else {
+                    Vector3::zeros()
+                };
+                uq[3 * l] = p.x;
+                uq[3 * l + 1] = p.y;
+                uq[3 * l + 2] = p.z;
+            }
             let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
-            let v1 = chol.solve(&bv) - cache.h.tr_mul(&(&u_block * &q1));
+            let mut v1 = w.bv[i].clone();
+            chol.solve_mut(&mut v1);
+            v1.gemv_tr(-1.0, &cache.h, uq, 1.0);
             self.vehicles[i].newmark_update(&nm, v1);
         }
         for n in 0..nb {
@@ -302,7 +329,184 @@ impl Monolithic {
         }
         self.q = q1;
         self.t = t1;
+        self.work = w;
         self.finish_outputs();
+    }
+
+    /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled).
+    fn apply_reduced(&self, w: &Work, x: &[f64], y: &mut [f64], ux: &mut [f64], sx: &mut [f64]) {
+        let nb = x.len();
+        for n in 0..nb {
+            y[n] = w.dhat[n] * x[n];
+        }
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let f0 = self.first_ws[i];
+            let nwi = tv.model.wheelsets.len();
+            let cache = &self.cache[i];
+            if cache.s_rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+                continue;
+            }
+            for l in 0..nwi {
+                let ws = f0 + l;
+                let p = if self.on[ws] {
+                    psi_mul(&self.psi[ws * nb..(ws + 1) * nb], x)
+                } else {
+                    Vector3::zeros()
+                };
+                ux[3 * l..3 * l + 3].copy_from_slice(p.as_slice());
+            }
+            for (r, row) in cache.s_rows.iter().enumerate() {
+                sx[r] = row.iter().map(|&(c, v)| v * ux[c]).sum();
+            }
+            for l in 0..nwi {
+                let ws = f0 + l;
+                if self.on[ws] {
+                    let f = Vector3::new(sx[3 * l], sx[3 * l + 1], sx[3 * l + 2]);
+                    psi_tr_add(&self.psi[ws * nb..(ws + 1) * nb], &f, y);
+                }
+            }
+        }
+    }
+
+    /// Preconditioned conjugate gradients on the reduced bridge system (preconditioner D̂).
+    /// Returns None when it has not reached round-off level within a few iterations (strong
+    /// coupling), so that the direct solver takes over.
+    fn solve_iterative(&self, w: &mut Work) -> Option<DVector<f64>> {
+        let nb = w.bq.len();
+        let b = w.bq.as_slice();
+        let bnorm = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let mut x: Vec<f64> = (0..nb).map(|n| b[n] / w.dhat[n]).collect();
+        if bnorm == 0.0 {
+            return Some(DVector::from_vec(x));
+        }
+        let wmax = self
+            .train
+            .vehicles
+            .iter()
+            .map(|v| 3 * v.model.wheelsets.len())
+            .max()
+            .unwrap_or(0);
+        let (mut ux, mut sx) = (vec![0.0; wmax], vec![0.0; wmax]);
+        let mut ax = vec![0.0; nb];
+        self.apply_reduced(w, &x, &mut ax, &mut ux, &mut sx);
+        let mut r: Vec<f64> = (0..nb).map(|n| b[n] - ax[n]).collect();
+        let mut z: Vec<f64> = (0..nb).map(|n| r[n] / w.dhat[n]).collect();
+        let mut p = z.clone();
+        let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        let mut ap = vec![0.0; nb];
+        for it in 0..MAX_CG_ITERATIONS {
+            let rmax = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if rmax <= CG_TOLERANCE * bnorm {
+                self.cg_iterations.set(self.cg_iterations.get() + it);
+                return Some(DVector::from_vec(x));
+            }
+            self.apply_reduced(w, &p, &mut ap, &mut ux, &mut sx);
+            let pap: f64 = p.iter().zip(&ap).map(|(a, b)| a * b).sum();
+            if pap <= 0.0 {
+                return None;
+            }
+            let alpha = rz / pap;
+            for n in 0..nb {
+                x[n] += alpha * p[n];
+                r[n] -= alpha * ap[n];
+                z[n] = r[n] / w.dhat[n];
+            }
+            let rz1: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+            let beta = rz1 / rz;
+            rz = rz1;
+            for n in 0..nb {
+                p[n] = z[n] + beta * p[n];
+            }
+        }
+        None
+    }
+
+    /// Assemble `A = D̂ + Σ Uᵀ S U` and solve by Cholesky.
+    fn solve_direct(&self, w: &Work) -> DVector<f64> {
+        let nb = w.bq.len();
+        let mut a = DMatrix::<f64>::from_diagonal(&w.dhat);
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let f0 = self.first_ws[i];
+            let nwi = tv.model.wheelsets.len();
+            let mut u = DMatrix::<f64>::zeros(3 * nwi, nb);
+            for l in 0..nwi {
+                for (n, p) in self.psi[(f0 + l) * nb..(f0 + l + 1) * nb]
+                    .iter()
+                    .enumerate()
+                {
+                    u[(3 * l, n)] = p[0];
+                    u[(3 * l + 1, n)] = p[1];
+                    u[(3 * l + 2, n)] = p[2];
+                }
+            }
+            let su = &self.cache[i].s * &u;
+            a += u.tr_mul(&su);
+        }
+        a.cholesky()
+            .expect("reduced bridge matrix is positive definite")
+            .solve(&w.bq)
+    }
+
+    /// Steps solved by the iterative path so far (the rest were solved directly) and the
+    /// conjugate-gradient iterations they took.
+    pub fn iterative_steps(&self) -> (usize, usize) {
+        (self.iterative_steps, self.cg_iterations.get())
+    }
+}
+
+/// Iterations of the conjugate-gradient path before the direct solver takes over.
+const MAX_CG_ITERATIONS: usize = 12;
+/// Relative residual (max norm) at which the iteration counts as exact.
+const CG_TOLERANCE: f64 = 1e-15;
+
+fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
+    let mut u = Vector3::zeros();
+    for (p, qn) in psi.iter().zip(q.iter()) {
+        u.x += p[0] * qn;
+        u.y += p[1] * qn;
+        u.z += p[2] * qn;
+    }
+    u
+}
+
+fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut [f64]) {
+    for (o, p) in out.iter_mut().zip(psi) {
+        *o += p[0] * f.x + p[1] * f.y + p[2] * f.z;
+    }
+}
+
+/// Preallocated buffers of one step.
+#[derive(Default)]
+struct Work {
+    qm: DVector<f64>,
+    qc: DVector<f64>,
+    dhat: DVector<f64>,
+    bq: DVector<f64>,
+    vm: Vec<DVector<f64>>,
+    vc: Vec<DVector<f64>>,
+    bv: Vec<DVector<f64>>,
+    z: Vec<DVector<f64>>,
+}
+
+impl Work {
+    fn new(nb: usize, train: &Train) -> Self {
+        let per = |f: &dyn Fn(&LinearVehicle) -> usize| -> Vec<DVector<f64>> {
+            train
+                .vehicles
+                .iter()
+                .map(|v| DVector::zeros(f(&v.model)))
+                .collect()
+        };
+        Work {
+            qm: DVector::zeros(nb),
+            qc: DVector::zeros(nb),
+            dhat: DVector::zeros(nb),
+            bq: DVector::zeros(nb),
+            vm: per(&|m| m.ndof()),
+            vc: per(&|m| m.ndof()),
+            bv: per(&|m| m.ndof()),
+            z: per(&|m| 3 * m.wheelsets.len()),
+        }
     }
 }
 
@@ -317,6 +521,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     if n == 0 {
         return VehicleCache {
             chol: None,
+            s_rows: sparse_rows(&s),
             s,
             h: DMatrix::zeros(3 * nw, 0),
         };
@@ -339,9 +544,27 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     let h = kinv_g.transpose();
     VehicleCache {
         chol: Some(chol),
+        s_rows: sparse_rows(&s),
         s,
         h,
     }
+}
+
+/// Non-zero pattern of a small matrix (entries below 1e-14 of the largest are structural
+/// zeros of the suspension layout, e.g. between lateral and vertical rail DOFs).
+fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
+    let tol = 1e-14 * s.amax();
+    if s.amax() == 0.0 {
+        return Vec::new();
+    }
+    (0..s.nrows())
+        .map(|r| {
+            (0..s.ncols())
+                .filter(|&c| s[(r, c)].abs() > tol)
+                .map(|c| (c, s[(r, c)]))
+                .collect()
+        })
+        .collect()
 }
 
 /// The full matrices of eq. (14) at time `t` for the given solver's geometry:
