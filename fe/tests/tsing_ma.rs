@@ -1,0 +1,299 @@
+//! The Tsing Ma preset: calibration targets, modal properties, dead-load state, static
+//! deflection under the paper's 8-coach train, and the mode-file output.
+
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+use tbi_dynamics::bridge::ModeSet;
+use tbi_fe::{tsing_ma, CableStationKind, DeckLoad, EigenPairs, FeModel, ModalResult};
+
+const N_MODES: usize = 50;
+
+struct Fixture {
+    model: FeModel,
+    pairs: EigenPairs,
+    modal: ModalResult,
+    elapsed: Duration,
+}
+
+fn fixture() -> &'static Fixture {
+    static F: OnceLock<Fixture> = OnceLock::new();
+    F.get_or_init(|| {
+        let t0 = Instant::now();
+        let model = FeModel::build(&tsing_ma()).expect("Tsing Ma model builds");
+        let pairs = model.eigen(N_MODES).expect("eigen-solution");
+        let elapsed = t0.elapsed();
+        let modal = model.modal_result(&pairs);
+        Fixture {
+            model,
+            pairs,
+            modal,
+            elapsed,
+        }
+    })
+}
+
+/// Measured frequencies of Tsing Ma (domain notes §3); the model must be within 5 %.
+#[test]
+fn six_calibration_frequencies_within_five_percent() {
+    let modal = &fixture().modal;
+    let targets = [
+        ("L-S-1", 0.069),
+        ("V-A-1", 0.113),
+        ("V-S-1", 0.139),
+        ("L-A-1", 0.164),
+        ("V-S-2", 0.184),
+        ("T-S-1", 0.267),
+    ];
+    for (label, target) in targets {
+        let m = modal
+            .by_label(label)
+            .unwrap_or_else(|| panic!("no mode {label}: {:?}", modal.labels()));
+        let err = m.frequency_hz / target - 1.0;
+        assert!(
+            err.abs() <= 0.05,
+            "{label}: {:.4} Hz vs {target} Hz ({:+.1} %)",
+            m.frequency_hz,
+            100.0 * err
+        );
+    }
+    // The first torsional mode is the lowest T mode of either symmetry.
+    let first_t = modal
+        .modes
+        .iter()
+        .find(|m| m.label.starts_with("T-"))
+        .expect("a torsional mode");
+    assert_eq!(first_t.label, "T-S-1");
+}
+
+#[test]
+fn first_twenty_modes_below_0_4_hz() {
+    let f = fixture().modal.frequencies_hz();
+    assert!(f[19] < 0.4, "20th mode at {} Hz", f[19]);
+    assert!(f.windows(2).all(|w| w[1] >= w[0]));
+}
+
+/// Assembly and the lowest 50 modes in under 30 s.
+#[test]
+fn assembly_and_fifty_modes_are_fast() {
+    let t = fixture().elapsed;
+    assert!(t < Duration::from_secs(30), "took {t:?}");
+}
+
+#[test]
+fn stiffness_and_mass_are_symmetric() {
+    let sys = fixture().model.system();
+    for (name, a) in [("K", &sys.k), ("M", &sys.m)] {
+        let n = a.nrows();
+        let mut amax = 0.0f64;
+        let mut asym = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                amax = amax.max(a[(i, j)].abs());
+                asym = asym.max((a[(i, j)] - a[(j, i)]).abs());
+            }
+        }
+        assert!(
+            asym <= 1e-13 * amax,
+            "{name}: max asymmetry {asym:e} vs max entry {amax:e}"
+        );
+    }
+}
+
+/// φᵢᵀ M φⱼ = δᵢⱼ and φᵢᵀ K φⱼ = ωᵢ² δᵢⱼ.
+#[test]
+fn modes_are_mass_normalised_and_orthogonal() {
+    let fx = fixture();
+    let sys = fx.model.system();
+    let phi = &fx.pairs.vectors;
+    let mphi = &sys.m * phi;
+    let kphi = &sys.k * phi;
+    let gm = phi.transpose() * &mphi;
+    let gk = phi.transpose() * &kphi;
+    let w2 = &fx.pairs.omega2;
+    for i in 0..N_MODES {
+        for j in 0..N_MODES {
+            let expect_m = if i == j { 1.0 } else { 0.0 };
+            assert!(
+                (gm[(i, j)] - expect_m).abs() < 1e-8,
+                "φ{i}ᵀMφ{j} = {}",
+                gm[(i, j)]
+            );
+            let scale = (w2[i] * w2[j]).sqrt();
+            let expect_k = if i == j { w2[i] } else { 0.0 };
+            assert!(
+                (gk[(i, j)] - expect_k).abs() < 1e-7 * scale,
+                "φ{i}ᵀKφ{j} = {} (ω² = {}, {})",
+                gk[(i, j)],
+                w2[i],
+                w2[j]
+            );
+        }
+    }
+}
+
+/// Every free cable node of the dead-load state is in equilibrium under its segment
+/// tensions and its vertical load, and the load is what the parameters imply (hanger
+/// force + hanger weight + tributary cable weight). The main-span sag is f = L/12 and
+/// H ≈ w̄ L²/(8f) for the mean main-span load w̄.
+#[test]
+fn dead_load_state_is_in_equilibrium() {
+    let model = &fixture().model;
+    let p = model.params();
+    let dl = model.dead_load();
+    let st = &dl.stations;
+    let seg_len =
+        |a: usize, b: usize| ((st[b].x - st[a].x).powi(2) + (st[b].z - st[a].z).powi(2)).sqrt();
+    let mut hanger = dl.hangers.iter();
+    for i in 1..st.len() - 1 {
+        let s = st[i];
+        if !matches!(s.kind, CableStationKind::Hanger | CableStationKind::Free) {
+            continue;
+        }
+        let (l0, l1) = (seg_len(i - 1, i), seg_len(i, i + 1));
+        let (t0, t1) = (dl.segment_tension[i - 1], dl.segment_tension[i]);
+        let fx = t0 * (st[i - 1].x - s.x) / l0 + t1 * (st[i + 1].x - s.x) / l1;
+        let fz = t0 * (st[i - 1].z - s.z) / l0 + t1 * (st[i + 1].z - s.z) / l1 + s.load;
+        assert!(
+            fx.abs() < 1e-6 * dl.horizontal_tension,
+            "x = {}: Fx = {fx}",
+            s.x
+        );
+        assert!(fz.abs() < 1e-6 * s.load, "x = {}: Fz = {fz}", s.x);
+        let main = s.x > p.left_tower_x && s.x < p.right_tower_x;
+        let mc = if main {
+            p.cable.mass_per_length_main
+        } else {
+            p.cable.mass_per_length_side
+        };
+        let mut expected = 0.5 * mc * p.gravity * (l0 + l1);
+        if s.kind == CableStationKind::Hanger {
+            let &(hx, force, len) = hanger.next().expect("hanger record");
+            assert_eq!(hx, s.x);
+            assert!((len + s.z).abs() < 1e-9);
+            expected += force + p.hanger.mass_per_length * p.gravity * len;
+        }
+        assert!((s.load / expected - 1.0).abs() < 1e-12, "x = {}", s.x);
+    }
+    // Sag at the main-span centre below the saddles.
+    let xm = 0.5 * (p.left_tower_x + p.right_tower_x);
+    let mid = st
+        .iter()
+        .find(|s| (s.x - xm).abs() < 1e-6)
+        .expect("midspan station");
+    let saddle = st
+        .iter()
+        .find(|s| s.kind == CableStationKind::TowerSaddle)
+        .unwrap();
+    assert!(((mid.z - saddle.z) / p.main_sag() - 1.0).abs() < 1e-9);
+    let total: f64 = st
+        .iter()
+        .filter(|s| s.x > p.left_tower_x && s.x < p.right_tower_x)
+        .map(|s| s.load)
+        .sum();
+    let w = total / p.main_span();
+    let h_parabola = w * p.main_span().powi(2) / (8.0 * p.main_sag());
+    assert!(
+        (dl.horizontal_tension / h_parabola - 1.0).abs() < 0.015,
+        "H = {:e} vs w̄L²/8f = {h_parabola:e}",
+        dl.horizontal_tension
+    );
+}
+
+/// Axle offsets behind the train front: 8 coaches of 22.5 m, bogie centres 15.6 m apart,
+/// wheelsets 2.5 m apart within a bogie (paper, Table 1).
+fn axle_offsets() -> Vec<f64> {
+    let (coach, bogie_half, axle_half) = (22.5, 7.8, 1.25);
+    (0..8)
+        .flat_map(|c| {
+            let centre = (c as f64 + 0.5) * coach;
+            [-bogie_half, bogie_half].into_iter().flat_map(move |b| {
+                [-axle_half, axle_half]
+                    .into_iter()
+                    .map(move |a| centre + b + a)
+            })
+        })
+        .collect()
+}
+
+/// The paper's Table 2 implies a quasi-static deck deflection of about 0.48–0.5 m under the
+/// crush-loaded 8-coach train at the response points A–D: 0.45–0.52 m.
+#[test]
+fn static_deflection_under_eight_coach_train() {
+    let fx = fixture();
+    let p = fx.model.params();
+    let solver = fx.model.static_solver().unwrap();
+    let axle = 13_250.0 * 9.81;
+    let offsets = axle_offsets();
+    assert_eq!(offsets.len(), 32);
+    for xp in [1012.5, 1138.0, 1174.0, 1498.5] {
+        let mut max = f64::NEG_INFINITY;
+        let mut front = xp - 20.0;
+        while front <= xp + 200.0 {
+            let loads: Vec<DeckLoad> = offsets
+                .iter()
+                .map(|&o| DeckLoad {
+                    x: front - o,
+                    lateral: 0.0,
+                    vertical: axle,
+                    torque: p.track_eccentricity * axle,
+                })
+                .collect();
+            max = max.max(solver.deck_deflection(&loads, &[xp]).unwrap()[0].vertical);
+            front += 1.0;
+        }
+        assert!(
+            (0.45..=0.52).contains(&max),
+            "x = {xp} m: max deflection {max:.4} m"
+        );
+    }
+}
+
+#[test]
+fn mode_set_round_trips_through_the_mode_file() {
+    let fx = fixture();
+    let set = fx.modal.to_mode_set();
+    assert_eq!(set.x_m, fx.model.deck_x());
+    assert_eq!(set.modes.len(), N_MODES);
+    let dir = std::env::temp_dir().join(format!("tbi-fe-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // CSV writes shortest round-trip decimals: exact. JSON is parsed by serde_json's default
+    // float parser, which may be off by an ulp: compare to a few ulps.
+    for (name, rel) in [("modes.csv", 0.0), ("modes.json", 4.0 * f64::EPSILON)] {
+        let path = dir.join(name);
+        set.write(&path).unwrap();
+        let back = ModeSet::read(&path).unwrap();
+        let close = |a: &[f64], b: &[f64]| {
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b)
+                    .all(|(x, y)| (x - y).abs() <= rel * x.abs().max(y.abs()))
+        };
+        assert!(close(&back.x_m, &set.x_m), "{name}: x_m");
+        assert_eq!(back.modes.len(), set.modes.len());
+        for (b, m) in back.modes.iter().zip(&set.modes) {
+            assert_eq!(b.label, m.label, "{name}");
+            assert!(
+                close(&[b.frequency_hz], &[m.frequency_hz]),
+                "{name}: {}",
+                m.label
+            );
+            assert_eq!(b.damping_ratio, m.damping_ratio);
+            for (bv, mv) in [
+                (&b.lateral, &m.lateral),
+                (&b.vertical, &m.vertical),
+                (&b.torsion, &m.torsion),
+            ] {
+                assert!(close(bv, mv), "{name}: {} shape", m.label);
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    // Labels are unique and each class is numbered 1, 2, 3... in frequency order.
+    let mut seen = std::collections::HashMap::<String, usize>::new();
+    for m in &fx.modal.modes {
+        let (class, order) = m.label.rsplit_once('-').unwrap();
+        let next = seen.entry(class.to_string()).or_insert(0);
+        *next += 1;
+        assert_eq!(order.parse::<usize>().unwrap(), *next, "{}", m.label);
+    }
+}

@@ -1,0 +1,286 @@
+//! `tbi simulate` on an FMU built outside the project (the C oscillator in tests/c-fmu)
+//! against `fmpy simulate` (FMPy 0.3.32) on the same FMU: same header, same rows, values
+//! equal to 1e-9.
+//!
+//! The FMPy venv comes from tests/python/setup-venv.sh; if it cannot be created the tests
+//! fail, unless TBI_SKIP_PYTHON=1 is set, in which case only the tbi side runs (and is
+//! still checked for its own invariants).
+
+mod fmu_support;
+
+use fmu_support::*;
+use std::path::Path;
+
+/// Run both tools on `fmu` and compare. `tbi_args` / `fmpy_args` are the extra options
+/// in each tool's spelling. Returns tbi's CSV.
+fn compare(fmu: &Path, tbi_args: &[&str], fmpy_args: &[&str]) -> Csv {
+    let dir = fmu.parent().unwrap();
+    let tbi_out = dir.join("tbi_out.csv");
+    let mut args = vec![
+        "simulate",
+        fmu.to_str().unwrap(),
+        "--output",
+        tbi_out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(tbi_args);
+    let run = tbi(&args, dir);
+    assert!(
+        run.status.success(),
+        "tbi {args:?} failed:\n{}",
+        text(&run.stderr)
+    );
+    let ours = read_csv(&tbi_out);
+    if let Some(venv) = fmpy_venv() {
+        let fmpy_out = dir.join("fmpy_out.csv");
+        let mut args = vec![
+            fmu.to_str().unwrap(),
+            "--output-file",
+            fmpy_out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(fmpy_args);
+        let run = fmpy(&venv, &args, dir);
+        assert!(
+            run.status.success(),
+            "fmpy simulate {args:?} failed:\n{}{}",
+            text(&run.stdout),
+            text(&run.stderr)
+        );
+        let theirs = read_csv(&fmpy_out);
+        assert_csv_match(&ours, &theirs);
+        // Both run the same binary with the same communication points, so even the text
+        // (number formatting included) is the same.
+        assert_eq!(
+            std::fs::read_to_string(&tbi_out).unwrap(),
+            std::fs::read_to_string(&fmpy_out).unwrap(),
+            "the CSV files differ in their text"
+        );
+    }
+    ours
+}
+
+fn times(csv: &Csv) -> Vec<f64> {
+    csv.rows.iter().map(|r| r[0].parse().unwrap()).collect()
+}
+
+#[test]
+fn defaults_match_fmpy() {
+    let fmu = build_fmu(&Variant::new("Oscillator"));
+    let csv = compare(&fmu, &[], &[]);
+    // outputs grouped by type: Real (x, v), Integer (steps), Boolean (moving_right)
+    assert_eq!(
+        csv.header,
+        "\"time\",\"x\",\"v\",\"steps\",\"moving_right\""
+    );
+    // DefaultExperiment: 0 to 3 s in steps of 0.01 s, a row at the start and after each step
+    assert_eq!(csv.rows.len(), 301);
+    assert_eq!(csv.rows[0][0], "0.0");
+    assert_eq!(csv.rows[1][0], "0.01");
+    assert_eq!(csv.rows[300][0], "3.0");
+    assert_eq!(csv.rows[300][3], "300");
+    // x(0) = x0 = 1, free oscillation with ω ≈ 2 rad/s
+    assert_eq!(csv.rows[0][1], "1.0");
+    let x_end: f64 = csv.rows[300][1].parse().unwrap();
+    assert!(x_end.abs() < 1.0);
+    assert!(csv.rows.iter().any(|r| r[4] == "True") && csv.rows.iter().any(|r| r[4] == "False"));
+}
+
+#[test]
+fn step_size_from_fmpy_rule_without_default_experiment() {
+    let variant = Variant::new("NoExperiment").replace(
+        "<DefaultExperiment startTime=\"0\" stopTime=\"3\" stepSize=\"0.01\"/>",
+        "",
+    );
+    let csv = compare(&build_fmu(&variant), &[], &[]);
+    // stop = start + 1; auto_interval(1) = 0.002 → 500 steps
+    let t = times(&csv);
+    assert_eq!(t.len(), 501);
+    assert_eq!(csv.rows[1][0], "0.002");
+    assert_eq!(*t.last().unwrap(), 1.0);
+}
+
+#[test]
+fn default_step_is_doubled_to_at_most_1000_steps() {
+    let fmu = build_fmu(&Variant::new("LongRun"));
+    let csv = compare(&fmu, &["--stop-time", "30"], &["--stop-time", "30"]);
+    // 0.01 → 0.02 → 0.04: 750 steps
+    assert_eq!(csv.rows.len(), 751);
+    assert_eq!(csv.rows[1][0], "0.04");
+}
+
+#[test]
+fn explicit_times_and_step() {
+    let fmu = build_fmu(&Variant::new("Explicit"));
+    let csv = compare(
+        &fmu,
+        &[
+            "--start-time",
+            "0.5",
+            "--stop-time",
+            "2.1",
+            "--step-size",
+            "0.025",
+        ],
+        &[
+            "--start-time",
+            "0.5",
+            "--stop-time",
+            "2.1",
+            "--output-interval",
+            "0.025",
+        ],
+    );
+    let t = times(&csv);
+    assert_eq!(t[0], 0.5);
+    assert_eq!(*t.last().unwrap(), 2.1);
+    assert_eq!(t.len(), 65);
+}
+
+#[test]
+fn last_partial_step_is_skipped_without_variable_step_size() {
+    let variant = Variant::new("FixedStep").replace(
+        "canHandleVariableCommunicationStepSize=\"true\"",
+        "canHandleVariableCommunicationStepSize=\"false\"",
+    );
+    let csv = compare(
+        &build_fmu(&variant),
+        &["--stop-time", "1", "--step-size", "0.3"],
+        &["--stop-time", "1", "--output-interval", "0.3"],
+    );
+    // 0, 0.3, 0.6, 0.9 (a step to 1.2 would pass the stop time)
+    assert_eq!(times(&csv).len(), 4);
+}
+
+#[test]
+fn start_values_match_fmpy() {
+    let fmu = build_fmu(&Variant::new("Parameters"));
+    let csv = compare(
+        &fmu,
+        &[
+            "--set",
+            "k=9",
+            "--set",
+            "d=0.1",
+            "--set",
+            "x0=-0.5",
+            "--set",
+            "label=abc",
+        ],
+        &[
+            "--start-values",
+            "k",
+            "9",
+            "d",
+            "0.1",
+            "x0",
+            "-0.5",
+            "label",
+            "abc",
+        ],
+    );
+    assert_eq!(csv.rows[0][1], "-0.5");
+}
+
+#[test]
+fn inputs_with_ramp_and_jump_match_fmpy() {
+    let fmu = build_fmu(&Variant::new("Forced").gain(Some("2.5")));
+    let dir = fmu.parent().unwrap();
+    let input = dir.join("input.csv");
+    // a ramp, a jump at t = 1.2345 (not on the step grid: variable steps end on it), a
+    // hold after the table ends; d is tunable and changes at t = 2
+    std::fs::write(
+        &input,
+        "\"time\",\"F\",\"d\"\n0,0,0.4\n1,3,0.4\n1.2345,3,0.4\n1.2345,-2,0.4\n2,-2,1.5\n2.5,1,1.5\n",
+    )
+    .unwrap();
+    let input = input.to_str().unwrap();
+    let csv = compare(&fmu, &["--input", input], &["--input-file", input]);
+    let t = times(&csv);
+    assert!(
+        t.contains(&1.2345),
+        "the jump time is a communication point"
+    );
+    assert!(t.contains(&2.0));
+    // the forced response differs from the free one
+    let free = compare(&build_fmu(&Variant::new("Free")), &[], &[]);
+    assert_ne!(csv.rows.last().unwrap()[1], free.rows.last().unwrap()[1]);
+}
+
+#[test]
+fn termination_requested_by_the_fmu_matches_fmpy() {
+    let variant = Variant::new("EndOfData")
+        .define("-DDISCARD_AT=1.005")
+        .define("-DDISCARD_TERMINATE=1");
+    let fmu = build_fmu(&variant);
+    let csv = compare(&fmu, &[], &[]);
+    let t = times(&csv);
+    // steps up to 1.0, then the step to 1.01 ends at 1.005 with a last row
+    assert_eq!(t.len(), 102);
+    assert_eq!(*t.last().unwrap(), 1.005);
+}
+
+#[test]
+fn default_output_file_and_standard_output() {
+    let fmu = build_fmu(&Variant::new("Named"));
+    let dir = fmu.parent().unwrap();
+    let run = tbi(
+        &["simulate", "Named.fmu", "--stop-time", "0.1", "--quiet"],
+        dir,
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    assert!(
+        run.stderr.is_empty(),
+        "--quiet prints nothing: {}",
+        text(&run.stderr)
+    );
+    let csv = read_csv(&dir.join("Named_out.csv"));
+    assert_eq!(csv.rows.len(), 11);
+
+    let run = tbi(
+        &[
+            "simulate",
+            "Named.fmu",
+            "--stop-time",
+            "0.1",
+            "--output",
+            "-",
+        ],
+        dir,
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let stdout = text(&run.stdout);
+    assert_eq!(
+        stdout,
+        std::fs::read_to_string(dir.join("Named_out.csv")).unwrap()
+    );
+    // without --quiet the FMU's log messages are shown, with instance name and category
+    assert!(
+        text(&run.stderr)
+            .contains("[oscillator] fmi2OK [logEvents] initialized: x=1 gain=1 label=osc"),
+        "{}",
+        text(&run.stderr)
+    );
+}
+
+#[test]
+fn unusable_arguments_are_refused() {
+    let fmu = build_fmu(&Variant::new("Args"));
+    let dir = fmu.parent().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["--set", "nope=1"], "Args.fmu: --set nope: the FMU has no variable \"nope\""),
+        (&["--set", "k"], "--set k: expected NAME=VALUE"),
+        (&["--set", "k=abc"], "--set k=abc: \"abc\" is not a number"),
+        (&["--set", "x=1"], "--set x: the variable cannot be set before or during initialisation (causality=\"output\", variability=\"continuous\")"),
+        (&["--stop-time", "-1"], "Args.fmu: the stop time -1 is not after the start time 0"),
+    ];
+    for (extra, expected) in cases {
+        let mut args = vec!["simulate", "Args.fmu", "--output", "x.csv"];
+        args.extend_from_slice(extra);
+        let run = tbi(&args, dir);
+        assert_eq!(run.status.code(), Some(1), "{args:?}");
+        assert!(
+            text(&run.stderr).contains(expected),
+            "{args:?}: {}",
+            text(&run.stderr)
+        );
+    }
+}
