@@ -1,3 +1,11 @@
 //! The `tbi` tool: scenarios, solvers, FMI import and the co-simulation master.
 pub mod coupling;
+pub mod cosim;
+pub mod model;
+pub mod plots;
+pub mod run;
+pub mod scenario;
+pub mod suspension;
+pub mod fmi;
+pub mod package;
 pub mod simulate;

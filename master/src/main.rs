@@ -11,6 +11,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Simulate a scenario (default: the embedded Tsing Ma case) and write summary.json, history.csv and plots.
+    Run(tbi::run::RunArgs),
     /// Run any FMI 2.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
     Simulate(tbi::simulate::SimulateArgs),
 }
@@ -19,6 +21,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Simulate(args) => tbi::simulate::main(args),
+        Command::Run(args) => tbi::run::main(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -19,7 +19,9 @@ pub struct CouplingError {
 
 impl CouplingError {
     pub fn new(message: impl Into<String>) -> Self {
-        Self { message: message.into() }
+        Self {
+            message: message.into(),
+        }
     }
 }
 

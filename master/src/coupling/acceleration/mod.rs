@@ -1,0 +1,58 @@
+//! Acceleration of the interface fixed-point iteration (preCICE: *acceleration*; FSI
+//! literature: relaxation / quasi-Newton coupling).
+//!
+//! Within a step the implicit scheme iterates `x̃ₖ = H(xₖ)` with residual `rₖ = x̃ₖ − xₖ`. An
+//! [`Acceleration`] turns `(xₖ, x̃ₖ)` into the next guess `xₖ₊₁`:
+//!
+//! | method | update |
+//! |---|---|
+//! | [`ConstantRelaxation`] | `xₖ₊₁ = xₖ + ω rₖ` |
+//! | [`Aitken`] | `xₖ₊₁ = xₖ + ωₖ rₖ`, `ωₖ = −ωₖ₋₁ (rₖ₋₁ᵀ D² Δrₖ) / ‖D Δrₖ‖²`, `Δrₖ = rₖ − rₖ₋₁` |
+//! | [`IqnIls`] | `xₖ₊₁ = x̃ₖ + W c`, `c = argmin ‖D (V c + rₖ)‖₂` |
+//!
+//! `D = diag(sᵢ)` is a per-variable scaling, positive and constant within a step, that makes
+//! variables of very different magnitude (forces ~1e5 N next to displacements ~1e-3 m)
+//! contribute alike; the implicit scheme derives it from the tolerances and the magnitude of
+//! each block of interface values (see [`Implicit`](crate::coupling::Implicit)).
+//! [`ConstantRelaxation`] ignores it.
+//!
+//! Call sequence per step: [`Acceleration::begin_step`], then [`Acceleration::perform`] once per
+//! non-converged sweep, then [`Acceleration::end_step`].
+
+mod aitken;
+mod constant;
+mod iqn_ils;
+
+pub use aitken::Aitken;
+pub use constant::ConstantRelaxation;
+pub use iqn_ils::{filtered_least_squares, IqnIls};
+
+/// One acceleration method for the interface iteration.
+pub trait Acceleration {
+    /// Short name as in the configuration, e.g. `"iqn-ils"`.
+    fn name(&self) -> &str;
+
+    /// Sets the interface size `n` and forgets all history.
+    fn initialize(&mut self, n: usize);
+
+    /// A step of size `h` starts (also when a step is retried): forget the iterates of any
+    /// unfinished step. Methods that keep information across steps may drop it when `h`
+    /// changes.
+    fn begin_step(&mut self, h: f64);
+
+    /// Computes the next guess `next` from the guess `x`, the sweep result `x_tilde = H(x)` and
+    /// the per-variable scaling `scale` (positive, constant within the step).
+    fn perform(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64], next: &mut [f64]);
+
+    /// The step ends; `converged` tells whether the convergence criterion was met.
+    fn end_step(&mut self, converged: bool);
+}
+
+/// `Σ (sᵢ aᵢ)(sᵢ bᵢ)`.
+fn scaled_dot(a: &[f64], b: &[f64], s: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .zip(s)
+        .map(|((&a, &b), &s)| (s * a) * (s * b))
+        .sum()
+}

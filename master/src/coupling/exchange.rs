@@ -1,0 +1,183 @@
+//! Routing of connection values between participants.
+//!
+//! Every distinct source `(participant, output value reference)` of a connection is one *slot*;
+//! its current value lives in [`Exchange::values`]. A connection `from → to` is *forward* when
+//! `from < to` (the source is stepped earlier in the sweep) and *feedback* when `from ≥ to`.
+//! The distinct sources of feedback connections are the interface unknowns `x` of the implicit
+//! scheme, numbered in the order of their first appearance in [`System::connections`].
+
+use super::system::{CouplingError, System};
+
+/// Where an input takes its value from.
+#[derive(Debug, Clone, Copy)]
+struct Route {
+    slot: usize,
+    /// Index into the interface unknowns when the connection is a feedback connection.
+    unknown: Option<usize>,
+}
+
+/// The connection topology of a [`System`] compiled into per-participant batches.
+#[derive(Debug, Clone)]
+pub(crate) struct Exchange {
+    /// Output value references read from each participant, and the slot each one fills.
+    out_vrs: Vec<Vec<u32>>,
+    out_slots: Vec<Vec<usize>>,
+    /// Input value references written to each participant, and where each takes its value.
+    in_vrs: Vec<Vec<u32>>,
+    in_routes: Vec<Vec<Route>>,
+    /// Source `(participant, output vr)` of each slot.
+    slot_source: Vec<(usize, u32)>,
+    /// Current value of each slot.
+    pub values: Vec<f64>,
+    /// Slot of each interface unknown (distinct feedback sources).
+    pub feedback_slots: Vec<usize>,
+    /// `(from, to)` participants of the first feedback connection of each unknown.
+    pub feedback_pairs: Vec<(usize, usize)>,
+    scratch: Vec<f64>,
+    participants: usize,
+    connections: usize,
+}
+
+impl Exchange {
+    /// Compiles the connections of `sys`, rejecting indices out of range and inputs fed by more
+    /// than one connection.
+    pub fn new(sys: &System) -> Result<Self, CouplingError> {
+        let np = sys.participants.len();
+        let mut ex = Exchange {
+            out_vrs: vec![Vec::new(); np],
+            out_slots: vec![Vec::new(); np],
+            in_vrs: vec![Vec::new(); np],
+            in_routes: vec![Vec::new(); np],
+            slot_source: Vec::new(),
+            values: Vec::new(),
+            feedback_slots: Vec::new(),
+            feedback_pairs: Vec::new(),
+            scratch: Vec::new(),
+            participants: np,
+            connections: sys.connections.len(),
+        };
+        for (i, c) in sys.connections.iter().enumerate() {
+            if c.from >= np || c.to >= np {
+                return Err(CouplingError::new(format!(
+                    "connection {i} ({} vr {} -> {} vr {}) refers to a participant that does not \
+                     exist (the system has {np})",
+                    c.from, c.from_vr, c.to, c.to_vr
+                )));
+            }
+            if ex.in_vrs[c.to].contains(&c.to_vr) {
+                return Err(CouplingError::new(format!(
+                    "input vr {} of participant '{}' is fed by more than one connection",
+                    c.to_vr,
+                    sys.participants[c.to].name()
+                )));
+            }
+            let slot = match ex
+                .slot_source
+                .iter()
+                .position(|&s| s == (c.from, c.from_vr))
+            {
+                Some(s) => s,
+                None => {
+                    ex.slot_source.push((c.from, c.from_vr));
+                    ex.out_vrs[c.from].push(c.from_vr);
+                    ex.out_slots[c.from].push(ex.slot_source.len() - 1);
+                    ex.slot_source.len() - 1
+                }
+            };
+            let unknown = if c.from >= c.to {
+                Some(match ex.feedback_slots.iter().position(|&s| s == slot) {
+                    Some(u) => u,
+                    None => {
+                        ex.feedback_slots.push(slot);
+                        ex.feedback_pairs.push((c.from, c.to));
+                        ex.feedback_slots.len() - 1
+                    }
+                })
+            } else {
+                None
+            };
+            ex.in_vrs[c.to].push(c.to_vr);
+            ex.in_routes[c.to].push(Route { slot, unknown });
+        }
+        ex.values = vec![0.0; ex.slot_source.len()];
+        Ok(ex)
+    }
+
+    /// Whether `sys` still has the shape this plan was compiled for.
+    pub fn matches(&self, sys: &System) -> bool {
+        self.participants == sys.participants.len() && self.connections == sys.connections.len()
+    }
+
+    /// Number of interface unknowns (distinct feedback sources).
+    pub fn unknowns(&self) -> usize {
+        self.feedback_slots.len()
+    }
+
+    /// Reads the outputs of participant `p` that feed any connection into their slots.
+    pub fn read_outputs(&mut self, sys: &mut System, p: usize) -> Result<(), CouplingError> {
+        let vrs = &self.out_vrs[p];
+        if vrs.is_empty() {
+            return Ok(());
+        }
+        self.scratch.clear();
+        self.scratch.resize(vrs.len(), 0.0);
+        let part = &mut sys.participants[p];
+        part.get_real(vrs, &mut self.scratch)
+            .map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
+        for (k, (&slot, &v)) in self.out_slots[p].iter().zip(&self.scratch).enumerate() {
+            if !v.is_finite() {
+                return Err(CouplingError::new(format!(
+                    "{}: output vr {} is not finite ({v})",
+                    part.name(),
+                    vrs[k]
+                )));
+            }
+            self.values[slot] = v;
+        }
+        Ok(())
+    }
+
+    /// Reads the connected outputs of every participant.
+    pub fn read_all(&mut self, sys: &mut System) -> Result<(), CouplingError> {
+        (0..self.participants).try_for_each(|p| self.read_outputs(sys, p))
+    }
+
+    /// Writes the inputs of participant `p`: feedback inputs from `x` when given, all others
+    /// (and all inputs when `x` is `None`) from the current slot values.
+    pub fn write_inputs(
+        &mut self,
+        sys: &mut System,
+        p: usize,
+        x: Option<&[f64]>,
+    ) -> Result<(), CouplingError> {
+        let vrs = &self.in_vrs[p];
+        if vrs.is_empty() {
+            return Ok(());
+        }
+        self.scratch.clear();
+        self.scratch
+            .extend(self.in_routes[p].iter().map(|r| match (r.unknown, x) {
+                (Some(u), Some(x)) => x[u],
+                _ => self.values[r.slot],
+            }));
+        let part = &mut sys.participants[p];
+        part.set_real(vrs, &self.scratch)
+            .map_err(|e| CouplingError::new(format!("{}: set_real failed: {e}", part.name())))
+    }
+
+    /// Writes every participant's inputs from the current slot values.
+    pub fn write_all(&mut self, sys: &mut System) -> Result<(), CouplingError> {
+        (0..self.participants).try_for_each(|p| self.write_inputs(sys, p, None))
+    }
+
+    /// Copies the current values of the interface unknowns into `x`.
+    pub fn feedback_values(&self, x: &mut Vec<f64>) {
+        x.clear();
+        x.extend(self.feedback_slots.iter().map(|&s| self.values[s]));
+    }
+}
+
+/// Tolerance for recognising two communication points as the same.
+pub(crate) fn same_time(a: f64, b: f64, h: f64) -> bool {
+    (a - b).abs() <= 1e-6 * h.abs().max(f64::MIN_POSITIVE)
+}

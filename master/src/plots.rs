@@ -1,0 +1,164 @@
+//! SVG plots of a run, drawn from its `history.csv` (the paper's Figures 8–11 for the Tsing Ma
+//! case): deck vertical displacement and acceleration at the probes, deck lateral
+//! displacement and acceleration, and the car-body accelerations of the first vehicle.
+
+use crate::model::Model;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Columns of a history file.
+pub struct History {
+    pub names: Vec<String>,
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl History {
+    pub fn read(path: &Path) -> Result<History, String> {
+        let mut rdr = csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let names: Vec<String> = rdr
+            .headers()
+            .map_err(|e| format!("{}: {e}", path.display()))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut columns = vec![Vec::new(); names.len()];
+        for (i, rec) in rdr.records().enumerate() {
+            let rec = rec.map_err(|e| format!("{}: {e}", path.display()))?;
+            for (c, v) in rec.iter().enumerate() {
+                let x: f64 = v
+                    .parse()
+                    .map_err(|_| format!("{}:{}: column {} value `{v}` is not a number", path.display(), i + 2, names[c]))?;
+                columns[c].push(x);
+            }
+        }
+        Ok(History { names, columns })
+    }
+
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.names.iter().position(|n| n == name).map(|i| self.columns[i].as_slice())
+    }
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// One panel: several series against time.
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    ylabel: &str,
+    t: &[f64],
+    series: &[(String, Vec<f64>)],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (_, s) in series {
+        for v in s {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+    }
+    if !lo.is_finite() || !hi.is_finite() {
+        lo = -1.0;
+        hi = 1.0;
+    }
+    if hi - lo < 1e-300 {
+        lo -= 1e-12_f64.max(lo.abs() * 0.1);
+        hi += 1e-12_f64.max(hi.abs() * 0.1);
+    }
+    let pad = 0.05 * (hi - lo);
+    let t0 = t.first().copied().unwrap_or(0.0);
+    let t1 = t.last().copied().unwrap_or(1.0).max(t0 + 1e-9);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_desc(ylabel)
+        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, (name, s)) in series.iter().enumerate() {
+        let color = COLORS[k % COLORS.len()];
+        chart
+            .draw_series(LineSeries::new(t.iter().copied().zip(s.iter().copied()), color.stroke_width(1)))
+            .map_err(|e| e.to_string())?
+            .label(name.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+    }
+    if series.len() > 1 {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+fn figure(path: &Path, panels: &[(&str, &str, Vec<(String, Vec<f64>)>)], t: &[f64]) -> Result<(), String> {
+    let height = 320 * panels.len() as u32;
+    let root = SVGBackend::new(path, (1000, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let areas = root.split_evenly((panels.len(), 1));
+    for (area, (title, ylabel, series)) in areas.iter().zip(panels) {
+        panel(area, title, ylabel, t, series)?;
+    }
+    root.present().map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Write the run's plots next to its history.
+pub fn write_run_plots(out: &Path, model: &Model, history: &Path) -> Result<(), String> {
+    let h = History::read(history)?;
+    let t = h.column("time_s").ok_or("history without time_s")?.to_vec();
+    let probe_series = |suffix: &str| -> Vec<(String, Vec<f64>)> {
+        model
+            .probes
+            .iter()
+            .filter_map(|(name, _)| h.column(&format!("{name}.{suffix}")).map(|c| (name.clone(), c.to_vec())))
+            .collect()
+    };
+    if !model.probes.is_empty() {
+        figure(
+            &out.join("deck_vertical.svg"),
+            &[
+                ("Deck vertical displacement (+ down)", "m", probe_series("vertical_displacement_m")),
+                ("Deck vertical acceleration", "m/s²", probe_series("vertical_acceleration_m_s2")),
+            ],
+            &t,
+        )?;
+        figure(
+            &out.join("deck_lateral.svg"),
+            &[
+                ("Deck lateral displacement", "m", probe_series("lateral_displacement_m")),
+                ("Deck lateral acceleration", "m/s²", probe_series("lateral_acceleration_m_s2")),
+            ],
+            &t,
+        )?;
+    }
+    let mut veh = Vec::new();
+    if let Some(c) = h.column("veh1.lateral_acceleration_m_s2") {
+        veh.push(("Car body 1 lateral acceleration", "m/s²", vec![("lateral".to_string(), c.to_vec())]));
+    }
+    if let Some(c) = h.column("veh1.vertical_acceleration_m_s2") {
+        veh.push(("Car body 1 vertical acceleration", "m/s²", vec![("vertical".to_string(), c.to_vec())]));
+    }
+    if !veh.is_empty() {
+        figure(&out.join("vehicle1_acceleration.svg"), &veh, &t)?;
+    }
+    Ok(())
+}
