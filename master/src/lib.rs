@@ -1,6 +1,7 @@
 //! The `tbi` tool: scenarios, solvers, FMI import and the co-simulation master.
 pub mod coupling;
 pub mod cosim;
+pub mod export;
 pub mod model;
 pub mod plots;
 pub mod run;

@@ -110,7 +110,11 @@ pub fn run_scenario(scenario: &Scenario, out: &Path, show_progress: bool) -> Res
     let start = Instant::now();
     let result = match scenario.run.solver {
         SolverKind::Monolithic => run_monolithic(&model, &mut rec, show_progress).map(|_| None),
-        SolverKind::Cosim => crate::cosim::run_cosim(scenario, &model, &mut rec, show_progress).map(Some),
+        SolverKind::Cosim => {
+            let mut s = scenario.clone();
+            s.fmu_dir = Some(s.fmu_dir.clone().unwrap_or_else(|| out.join("fmus")));
+            crate::cosim::run_cosim(&s, &model, &mut rec, show_progress).map(Some)
+        }
     };
     let wall = start.elapsed().as_secs_f64();
     rec.finish()?;

@@ -69,6 +69,9 @@ pub struct Scenario {
     /// Where the scenario came from, for messages.
     #[serde(skip)]
     pub origin: String,
+    /// Where co-simulation keeps the exported FMUs (set by `tbi run`: `<out>/fmus`).
+    #[serde(skip)]
+    pub fmu_dir: Option<PathBuf>,
 }
 
 fn default_name() -> String {

@@ -1,0 +1,279 @@
+//! `tbi export`: package a scenario's bridge and train as FMI 2.0 Co-Simulation FMUs and an
+//! SSP 1.0 system (`system.ssp`) that wires them.
+//!
+//! The FMUs' binaries are the `cdylib`s `libbridge.so` and `libtrain.so` built with the
+//! workspace (`cargo build --release`); they are looked up next to the `tbi` executable (or
+//! in `$TBI_FMU_LIB_DIR`). The scenario's data travel in `resources/`: the modal bridge,
+//! probes and wheelset count (`bridge.json`), the irregularity record (`track.csv`) and the
+//! train (`train.json`). GUIDs are derived from the build identifier and those bytes, so a
+//! description always matches its resources.
+
+use crate::model::Model;
+use crate::package::write_fmu;
+use model_description::builder::{ModelDescriptionBuilder, RealBuilder};
+use model_description::{Causality as MdCausality, DefaultExperiment, Initial, Variability, VariableNamingConvention};
+use std::path::{Path, PathBuf};
+use tbi_dynamics::interface::{
+    BridgeResources, Causality, ProbeSpec, TrainResources, Var, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, RAIL_CHANNELS,
+    TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WHEEL_CHANNELS,
+};
+
+/// Command-line arguments of `tbi export`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ExportArgs {
+    /// Scenario file (TOML). Default: the embedded Tsing Ma case.
+    pub scenario: Option<PathBuf>,
+    /// Output folder for bridge.fmu, train.fmu and system.ssp.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Paths and GUIDs of an export.
+#[derive(Debug, Clone)]
+pub struct Exported {
+    pub bridge: PathBuf,
+    pub train: PathBuf,
+    pub ssp: PathBuf,
+    pub bridge_guid: String,
+    pub train_guid: String,
+    pub bridge_resources: BridgeResources,
+    pub train_resources: TrainResources,
+}
+
+pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let scenario = crate::run::load_scenario(args.scenario.as_deref(), None, None)?;
+    let model = crate::model::build(&scenario)?;
+    let e = export(&model, &args.out)?;
+    println!("{}\n{}\n{}", e.bridge.display(), e.train.display(), e.ssp.display());
+    Ok(())
+}
+
+/// Directory holding `libbridge.so` and `libtrain.so`.
+pub fn library_dir() -> Result<PathBuf, String> {
+    let mut candidates = Vec::new();
+    if let Ok(d) = std::env::var("TBI_FMU_LIB_DIR") {
+        candidates.push(PathBuf::from(d));
+    }
+    if let Ok(exe) = std::env::current_exe() {
+        if let Some(dir) = exe.parent() {
+            candidates.push(dir.to_path_buf());
+            if let Some(up) = dir.parent() {
+                candidates.push(up.to_path_buf());
+            }
+        }
+    }
+    for c in &candidates {
+        if c.join("libbridge.so").is_file() && c.join("libtrain.so").is_file() {
+            return Ok(c.clone());
+        }
+    }
+    Err(format!(
+        "the FMU libraries libbridge.so and libtrain.so were not found in {:?}; build them with `cargo build --release` (workspace root) or set TBI_FMU_LIB_DIR",
+        candidates
+    ))
+}
+
+fn real_var(v: &Var) -> RealBuilder {
+    let b = match v.causality {
+        Causality::Parameter => RealBuilder::parameter(&v.name, v.vr, v.start.unwrap_or(0.0))
+            .variability(Variability::Fixed)
+            .initial(Initial::Exact),
+        Causality::Input => RealBuilder::input(&v.name, v.vr, v.start.unwrap_or(0.0)),
+        Causality::Output => RealBuilder::output(&v.name, v.vr).causality(MdCausality::Output),
+    };
+    let b = b.description(&v.description);
+    if v.unit == "1" {
+        b
+    } else {
+        b.unit(&v.unit)
+    }
+}
+
+fn description_xml(id: &str, guid: &str, what: &str, vars: &[Var], stop: f64, step: f64) -> Result<String, String> {
+    let caps = fmi_export::CAPABILITIES;
+    let mut b = ModelDescriptionBuilder::new(id, guid, id)
+        .description(what)
+        .generation_tool(format!("tbi {}", env!("CARGO_PKG_VERSION")))
+        .variable_naming_convention(VariableNamingConvention::Structured)
+        .default_experiment(DefaultExperiment {
+            start_time: Some(0.0),
+            stop_time: Some(stop),
+            tolerance: None,
+            step_size: Some(step),
+        })
+        .capabilities(|cs| {
+            cs.needs_execution_tool = caps.needs_execution_tool;
+            cs.can_handle_variable_communication_step_size = caps.can_handle_variable_communication_step_size;
+            cs.can_interpolate_inputs = caps.can_interpolate_inputs;
+            cs.max_output_derivative_order = caps.max_output_derivative_order;
+            cs.can_run_asynchronuously = caps.can_run_asynchronuously;
+            cs.can_be_instantiated_only_once_per_process = caps.can_be_instantiated_only_once_per_process;
+            cs.can_not_use_memory_management_functions = caps.can_not_use_memory_management_functions;
+            cs.can_get_and_set_fmu_state = caps.can_get_and_set_fmu_state;
+            cs.can_serialize_fmu_state = caps.can_serialize_fmu_state;
+            cs.provides_directional_derivative = caps.provides_directional_derivative;
+        });
+    for (name, desc) in fmi_export::logging::LOG_CATEGORIES {
+        b = b.log_category(*name, *desc);
+    }
+    for v in vars {
+        b = b.real(real_var(v));
+    }
+    let md = b.build().map_err(|e| format!("{id} model description: {e}"))?;
+    Ok(md.to_xml_string())
+}
+
+const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow the pattern <code>ws[i].name</code> (wheelset i, 1-based), SI units; y right, z down, roll about x right side down. Inputs set before fmi2DoStep(t, h) are the values at t + h: an implicit (iterating) master reproduces the monolithic solution, a plain fixed-step master sees a one-step lag. Each fmi2DoStep is one Newmark (average acceleration) step of size h.</p></body></html>";
+
+/// Package the model's FMUs and SSP into `out`. Existing files with the same GUIDs are reused.
+pub fn export(model: &Model, out: &Path) -> Result<Exported, String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let libs = library_dir()?;
+    let track_csv = model.track.to_record_csv();
+    let bridge_res = BridgeResources {
+        modal: model.bridge.clone(),
+        probes: model.probes.iter().map(|(n, x)| ProbeSpec { name: n.clone(), x_m: *x }).collect(),
+        n_wheelsets: model.train.n_wheelsets(),
+        has_track_record: track_csv.is_some(),
+    };
+    let bridge_json = serde_json::to_vec_pretty(&bridge_res).map_err(|e| e.to_string())?;
+    let mut bridge_bytes = bridge_json.clone();
+    let mut bridge_files = vec![(BRIDGE_RESOURCE.to_string(), bridge_json)];
+    if let Some(csv) = track_csv {
+        bridge_bytes.extend_from_slice(csv.as_bytes());
+        bridge_files.push((TRACK_RESOURCE.to_string(), csv.into_bytes()));
+    }
+    let train_res = TrainResources {
+        spec: model.axles.clone(),
+        speed_m_s: model.train.speed_m_s,
+        x0_m: model.train.x0_m,
+        hunting: model.hunting.clone(),
+    };
+    let train_json = serde_json::to_vec_pretty(&train_res).map_err(|e| e.to_string())?;
+    let bridge_guid = fmi_export::guid(BRIDGE_ID, BUILD_ID, &bridge_bytes);
+    let train_guid = fmi_export::guid(TRAIN_ID, BUILD_ID, &train_json);
+    let stop = model.t_end();
+    let bridge_path = out.join("bridge.fmu");
+    let train_path = out.join("train.fmu");
+    if !has_guid(&bridge_path, &bridge_guid) {
+        let what = "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
+        let xml = description_xml(BRIDGE_ID, &bridge_guid, what, &bridge_res.variables(), stop, model.dt)?;
+        let doc = DOC.replace("{TITLE}", "bridge").replace("{WHAT}", what);
+        write_fmu(&bridge_path, &xml, BRIDGE_ID, &libs.join("libbridge.so"), &bridge_files, Some(&doc))
+            .map_err(|e| format!("{}: {e}", bridge_path.display()))?;
+    }
+    if !has_guid(&train_path, &train_guid) {
+        let what = "Train of linear vehicles (moving forces, sprung masses or 27-DOF coaches): rail motion in, wheel forces out";
+        let xml = description_xml(TRAIN_ID, &train_guid, what, &train_res.variables(), stop, model.dt)?;
+        let doc = DOC.replace("{TITLE}", "train").replace("{WHAT}", what);
+        write_fmu(&train_path, &xml, TRAIN_ID, &libs.join("libtrain.so"), &[(TRAIN_RESOURCE.to_string(), train_json)], Some(&doc))
+            .map_err(|e| format!("{}: {e}", train_path.display()))?;
+    }
+    let ssp = out.join("system.ssp");
+    write_ssp(&ssp, &bridge_path, &train_path, &bridge_res, &train_res, stop, model.dt)?;
+    Ok(Exported {
+        bridge: bridge_path,
+        train: train_path,
+        ssp,
+        bridge_guid,
+        train_guid,
+        bridge_resources: bridge_res,
+        train_resources: train_res,
+    })
+}
+
+fn has_guid(fmu: &Path, guid: &str) -> bool {
+    let Ok(f) = std::fs::File::open(fmu) else { return false };
+    let Ok(mut z) = zip::ZipArchive::new(f) else { return false };
+    let Ok(mut md) = z.by_name("modelDescription.xml") else { return false };
+    let mut s = String::new();
+    use std::io::Read;
+    if md.read_to_string(&mut s).is_err() {
+        return false;
+    }
+    s.contains(&format!("guid=\"{guid}\""))
+}
+
+/// The connections of the coupled system as (from FMU, variable, to FMU, variable).
+pub fn connections(n_wheelsets: usize) -> Vec<(&'static str, String, &'static str, String)> {
+    let mut c = Vec::new();
+    for w in 1..=n_wheelsets {
+        for (ch, ..) in WHEEL_CHANNELS {
+            c.push(("train", format!("ws[{w}].{ch}"), "bridge", format!("ws[{w}].{ch}")));
+        }
+        for (ch, ..) in RAIL_CHANNELS {
+            c.push(("bridge", format!("ws[{w}].{ch}"), "train", format!("ws[{w}].{ch}")));
+        }
+    }
+    c
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+fn write_ssp(
+    path: &Path,
+    bridge: &Path,
+    train: &Path,
+    b: &BridgeResources,
+    t: &TrainResources,
+    stop: f64,
+    step: f64,
+) -> Result<(), String> {
+    let connectors = |vars: Vec<Var>| -> String {
+        vars.iter()
+            .filter(|v| v.causality != Causality::Parameter)
+            .map(|v| {
+                let kind = if v.causality == Causality::Input { "input" } else { "output" };
+                format!("          <ssd:Connector name=\"{}\" kind=\"{kind}\"><ssc:Real/></ssd:Connector>\n", xml_escape(&v.name))
+            })
+            .collect()
+    };
+    let mut conns = String::new();
+    for (sf, sv, tf, tv) in connections(b.n_wheelsets) {
+        conns.push_str(&format!(
+            "      <ssd:Connection startElement=\"{sf}\" startConnector=\"{}\" endElement=\"{tf}\" endConnector=\"{}\"/>\n",
+            xml_escape(&sv),
+            xml_escape(&tv)
+        ));
+    }
+    let ssd = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="train-bridge">
+  <ssd:System name="train-bridge">
+    <ssd:Elements>
+      <ssd:Component name="bridge" type="application/x-fmu-sharedlibrary" source="resources/bridge.fmu">
+        <ssd:Connectors>
+{}        </ssd:Connectors>
+      </ssd:Component>
+      <ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">
+        <ssd:Connectors>
+{}        </ssd:Connectors>
+      </ssd:Component>
+    </ssd:Elements>
+    <ssd:Connections>
+{}    </ssd:Connections>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="{stop}"/>
+</ssd:SystemStructureDescription>
+"#,
+        connectors(b.variables()),
+        connectors(t.variables()),
+        conns
+    );
+    let _ = step;
+    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut z = zip::ZipWriter::new(file);
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    let mut add = |name: &str, bytes: &[u8]| -> Result<(), String> {
+        use std::io::Write;
+        z.start_file(name, opts).map_err(|e| format!("{}: {e}", path.display()))?;
+        z.write_all(bytes).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    add("SystemStructure.ssd", ssd.as_bytes())?;
+    add("resources/bridge.fmu", &std::fs::read(bridge).map_err(|e| format!("{}: {e}", bridge.display()))?)?;
+    add("resources/train.fmu", &std::fs::read(train).map_err(|e| format!("{}: {e}", train.display()))?)?;
+    z.finish().map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}
