@@ -15,8 +15,25 @@ enum Command {
     Run(tbi::run::RunArgs),
     /// Package a scenario's bridge and train as FMI 2.0 Co-Simulation FMUs plus an SSP system.
     Export(tbi::export::ExportArgs),
+    /// The bridge's modes: table, modes file and plots of the first shapes.
+    Modes(tbi::modes::ModesArgs),
+    /// Run a scenario at several speeds in parallel and tabulate like the paper's Table 2.
+    Sweep(tbi::sweep::SweepArgs),
+    /// The embedded default scenario.
+    Scenario {
+        #[command(subcommand)]
+        what: ScenarioCommand,
+    },
+    /// Speed measurements (monolithic, co-simulation, FE modes, sweep).
+    Bench(tbi::bench::BenchArgs),
     /// Run any FMI 2.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
     Simulate(tbi::simulate::SimulateArgs),
+}
+
+#[derive(Subcommand)]
+enum ScenarioCommand {
+    /// Print the embedded default scenario (the Tsing Ma case) as TOML.
+    Show,
 }
 
 fn main() -> ExitCode {
@@ -25,6 +42,13 @@ fn main() -> ExitCode {
         Command::Simulate(args) => tbi::simulate::main(args),
         Command::Run(args) => tbi::run::main(args),
         Command::Export(args) => tbi::export::main(args),
+        Command::Modes(args) => tbi::modes::main(args),
+        Command::Sweep(args) => tbi::sweep::main(args),
+        Command::Scenario { what: ScenarioCommand::Show } => {
+            print!("{}", tbi::scenario::DEFAULT_SCENARIO);
+            Ok(())
+        }
+        Command::Bench(args) => tbi::bench::main(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -24,7 +24,9 @@ pub fn preset_modes(name: &str, modes: usize) -> Result<ModeSet, String> {
     static CACHE: OnceLock<Cache> = OnceLock::new();
     let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
     let key = (name.to_string(), modes);
-    if let Some(set) = cache.lock().expect("cache lock").get(&key) {
+    // Held during the computation so that parallel runs (tbi sweep) compute it once.
+    let mut guard = cache.lock().expect("cache lock");
+    if let Some(set) = guard.get(&key) {
         return Ok(set.clone());
     }
     let params = preset_params(name)?;
@@ -40,6 +42,6 @@ pub fn preset_modes(name: &str, modes: usize) -> Result<ModeSet, String> {
         return Err(format!("the {name} model has only {} deck modes among its lowest {} modes", set.modes.len(), 2 * modes + 10));
     }
     set.modes.truncate(modes);
-    cache.lock().expect("cache lock").insert(key, set.clone());
+    guard.insert(key, set.clone());
     Ok(set)
 }

@@ -4,7 +4,7 @@ pub mod modes_file;
 pub mod simply_supported;
 
 pub use modal::{ModalBridge, Shapes};
-pub use modes_file::{Mode, ModeSet};
+pub use modes_file::{Mode, ModeSet, FORMAT_TAG};
 pub use simply_supported::SimplySupported;
 
 impl ModeSet {
