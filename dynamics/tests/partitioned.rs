@@ -65,7 +65,11 @@ fn converged_partitions_equal_monolithic() {
         })
         .collect();
     bs.initialize(&inputs0);
-    let rails0: Vec<_> = inputs0.iter().map(|i| bs.rail(i.x, i.vx)).collect();
+    let rails0: Vec<_> = inputs0
+        .iter()
+        .enumerate()
+        .map(|(w, i)| bs.rail(w, i.x, i.vx))
+        .collect();
     ts.initialize(0.0, &rails0);
     let mut forces: Vec<Vector3<f64>> = (0..nw).map(|w| ts.force(w)).collect();
     let mut max_rel: f64 = 0.0;
@@ -90,7 +94,11 @@ fn converged_partitions_equal_monolithic() {
                 })
                 .collect();
             bs.step(dt, &inputs);
-            let rails: Vec<_> = inputs.iter().map(|i| bs.rail(i.x, i.vx)).collect();
+            let rails: Vec<_> = inputs
+                .iter()
+                .enumerate()
+                .map(|(w, i)| bs.rail(w, i.x, i.vx))
+                .collect();
             ts.step(dt, &rails);
             let new: Vec<Vector3<f64>> = (0..nw).map(|w| ts.force(w)).collect();
             let res: Vec<f64> = (0..nw)

@@ -72,7 +72,7 @@ impl BridgeFmu {
         let nw = self.res.n_wheelsets;
         for w in 0..nw {
             let i = self.inputs[w];
-            let r = self.side.rail(i.x, i.vx);
+            let r = self.side.rail(w, i.x, i.vx);
             for k in 0..3 {
                 self.outputs[9 * w + k] = r[0][k];
                 self.outputs[9 * w + 3 + k] = r[1][k];

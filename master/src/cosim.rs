@@ -6,8 +6,10 @@
 //! connections) is what the train sends to the bridge: wheelset positions, speeds and
 //! forces. Every step's outputs fill the same [`Sample`] as the monolithic solver.
 
-use crate::coupling::{advance, build_scheme, CouplingError, CouplingStatistics, Participant, StepStatus, System};
-use crate::fmi::{Fmu, FmuState, InstantiateOptions, Instance, StepResult};
+use crate::coupling::{
+    advance, build_scheme, CouplingError, CouplingStatistics, Participant, StepStatus, System,
+};
+use crate::fmi::{Fmu, FmuState, Instance, InstantiateOptions, StepResult};
 use crate::model::Model;
 use crate::scenario::Scenario;
 use serde_json::json;
@@ -55,7 +57,10 @@ impl Participant for FmuParticipant {
         Ok(())
     }
     fn restore_state(&mut self) -> Result<(), CouplingError> {
-        let s = self.saved.as_ref().ok_or_else(|| CouplingError::new(format!("{}: no saved state", self.inst.name())))?;
+        let s = self
+            .saved
+            .as_ref()
+            .ok_or_else(|| CouplingError::new(format!("{}: no saved state", self.inst.name())))?;
         self.inst.set_fmu_state(s).map(|_| ()).map_err(cerr)
     }
 }
@@ -71,7 +76,11 @@ fn vr_map(fmu: &Fmu) -> HashMap<String, u32> {
 
 /// Load, instantiate and initialise both FMUs of an export; returns the system (bridge 0,
 /// train 1) ready for stepping at t = 0.
-pub fn build_system(bridge_fmu: &Path, train_fmu: &Path, stop: f64) -> Result<System, Box<dyn std::error::Error>> {
+pub fn build_system(
+    bridge_fmu: &Path,
+    train_fmu: &Path,
+    stop: f64,
+) -> Result<System, Box<dyn std::error::Error>> {
     let bfmu = Fmu::load(bridge_fmu)?;
     let tfmu = Fmu::load(train_fmu)?;
     let opts = |name: &str| InstantiateOptions {
@@ -93,8 +102,12 @@ pub fn build_system(bridge_fmu: &Path, train_fmu: &Path, stop: f64) -> Result<Sy
     for (from, fv, to, tv) in crate::export::connections(n_wheelsets) {
         let (fi, fm) = if from == "bridge" { (0, &bm) } else { (1, &tm) };
         let (ti, tmap) = if to == "bridge" { (0, &bm) } else { (1, &tm) };
-        let from_vr = *fm.get(&fv).ok_or_else(|| format!("{from}.fmu has no variable {fv}"))?;
-        let to_vr = *tmap.get(&tv).ok_or_else(|| format!("{to}.fmu has no variable {tv}"))?;
+        let from_vr = *fm
+            .get(&fv)
+            .ok_or_else(|| format!("{from}.fmu has no variable {fv}"))?;
+        let to_vr = *tmap
+            .get(&tv)
+            .ok_or_else(|| format!("{to}.fmu has no variable {tv}"))?;
         connections.push(crate::coupling::Connection {
             from: fi,
             from_vr,
@@ -127,7 +140,10 @@ pub fn build_system(bridge_fmu: &Path, train_fmu: &Path, stop: f64) -> Result<Sy
     b.exit_initialization_mode()?;
     t.exit_initialization_mode()?;
     Ok(System {
-        participants: vec![Box::new(FmuParticipant::new(b)), Box::new(FmuParticipant::new(t))],
+        participants: vec![
+            Box::new(FmuParticipant::new(b)),
+            Box::new(FmuParticipant::new(t)),
+        ],
         connections,
     })
 }
@@ -140,7 +156,7 @@ pub fn run_cosim<W: std::io::Write>(
     show_progress: bool,
 ) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
     let out = rec_dir(scenario);
-    let exported = crate::export::export(model, &out)?;
+    let exported = crate::export::export_with(model, &out, false)?;
     let t_end = model.t_end();
     let mut sys = build_system(&exported.bridge, &exported.train, t_end)?;
     let cfg = &scenario.coupling;
@@ -149,9 +165,15 @@ pub fn run_cosim<W: std::io::Write>(
     let nw = model.train.n_wheelsets();
     let nv = model.train.vehicles.len();
     let np = model.probes.len();
-    let probe_vrs: Vec<u32> = (0..np).flat_map(|p| (0..5).map(move |k| bridge_vr::probe_output(nw, p, k))).collect();
-    let force_vrs: Vec<u32> = (0..nw).flat_map(|w| [2, 3, 4].map(|k| train_vr::wheel_output(nw, w, k))).collect();
-    let veh_vrs: Vec<u32> = (0..nv).flat_map(|i| [0, 1].map(|k| train_vr::vehicle_output(nw, i, k))).collect();
+    let probe_vrs: Vec<u32> = (0..np)
+        .flat_map(|p| (0..5).map(move |k| bridge_vr::probe_output(nw, p, k)))
+        .collect();
+    let force_vrs: Vec<u32> = (0..nw)
+        .flat_map(|w| [2, 3, 4].map(|k| train_vr::wheel_output(nw, w, k)))
+        .collect();
+    let veh_vrs: Vec<u32> = (0..nv)
+        .flat_map(|i| [0, 1].map(|k| train_vr::vehicle_output(nw, i, k)))
+        .collect();
     let layout = rec.layout.clone();
     let mut sample_at = |sys: &mut System, t: f64| -> Result<Sample, CouplingError> {
         let mut pv = vec![0.0; probe_vrs.len()];
@@ -178,7 +200,10 @@ pub fn run_cosim<W: std::io::Write>(
                     [has[0].then_some(vv[2 * i]), has[1].then_some(vv[2 * i + 1])]
                 })
                 .collect(),
-            forces: fv.chunks(3).map(|c| nalgebra::Vector3::new(c[0], c[1], c[2])).collect(),
+            forces: fv
+                .chunks(3)
+                .map(|c| nalgebra::Vector3::new(c[0], c[1], c[2]))
+                .collect(),
         })
     };
     rec.record(&sample_at(&mut sys, 0.0)?, true)?;
@@ -191,7 +216,10 @@ pub fn run_cosim<W: std::io::Write>(
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);
         let t1 = k as f64 * h;
-        rec.record(&sample_at(&mut sys, t1)?, k % model.output_every == 0 || k == model.steps)?;
+        rec.record(
+            &sample_at(&mut sys, t1)?,
+            k % model.output_every == 0 || k == model.steps,
+        )?;
         if k % 256 == 0 {
             pb.set_position(k as u64);
         }
@@ -212,5 +240,9 @@ pub fn run_cosim<W: std::io::Write>(
 }
 
 fn rec_dir(s: &Scenario) -> std::path::PathBuf {
-    s.fmu_dir.clone().unwrap_or_else(|| std::path::PathBuf::from("tbi-out").join(&s.name).join("fmus"))
+    s.fmu_dir.clone().unwrap_or_else(|| {
+        std::path::PathBuf::from("tbi-out")
+            .join(&s.name)
+            .join("fmus")
+    })
 }

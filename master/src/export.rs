@@ -11,11 +11,13 @@
 use crate::model::Model;
 use crate::package::write_fmu;
 use model_description::builder::{ModelDescriptionBuilder, RealBuilder};
-use model_description::{Causality as MdCausality, DefaultExperiment, Initial, Variability, VariableNamingConvention};
+use model_description::{
+    Causality as MdCausality, DefaultExperiment, Initial, Variability, VariableNamingConvention,
+};
 use std::path::{Path, PathBuf};
 use tbi_dynamics::interface::{
-    BridgeResources, Causality, ProbeSpec, TrainResources, Var, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, RAIL_CHANNELS,
-    TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WHEEL_CHANNELS,
+    BridgeResources, Causality, ProbeSpec, TrainResources, Var, BRIDGE_ID, BRIDGE_RESOURCE,
+    BUILD_ID, RAIL_CHANNELS, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WHEEL_CHANNELS,
 };
 
 /// Command-line arguments of `tbi export`.
@@ -44,7 +46,12 @@ pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
     let scenario = crate::run::load_scenario(args.scenario.as_deref(), None, None)?;
     let model = crate::model::build(&scenario)?;
     let e = export(&model, &args.out)?;
-    println!("{}\n{}\n{}", e.bridge.display(), e.train.display(), e.ssp.display());
+    println!(
+        "{}\n{}\n{}",
+        e.bridge.display(),
+        e.train.display(),
+        e.ssp.display()
+    );
     Ok(())
 }
 
@@ -89,7 +96,14 @@ fn real_var(v: &Var) -> RealBuilder {
     }
 }
 
-fn description_xml(id: &str, guid: &str, what: &str, vars: &[Var], stop: f64, step: f64) -> Result<String, String> {
+fn description_xml(
+    id: &str,
+    guid: &str,
+    what: &str,
+    vars: &[Var],
+    stop: f64,
+    step: f64,
+) -> Result<String, String> {
     let caps = fmi_export::CAPABILITIES;
     let mut b = ModelDescriptionBuilder::new(id, guid, id)
         .description(what)
@@ -103,12 +117,15 @@ fn description_xml(id: &str, guid: &str, what: &str, vars: &[Var], stop: f64, st
         })
         .capabilities(|cs| {
             cs.needs_execution_tool = caps.needs_execution_tool;
-            cs.can_handle_variable_communication_step_size = caps.can_handle_variable_communication_step_size;
+            cs.can_handle_variable_communication_step_size =
+                caps.can_handle_variable_communication_step_size;
             cs.can_interpolate_inputs = caps.can_interpolate_inputs;
             cs.max_output_derivative_order = caps.max_output_derivative_order;
             cs.can_run_asynchronuously = caps.can_run_asynchronuously;
-            cs.can_be_instantiated_only_once_per_process = caps.can_be_instantiated_only_once_per_process;
-            cs.can_not_use_memory_management_functions = caps.can_not_use_memory_management_functions;
+            cs.can_be_instantiated_only_once_per_process =
+                caps.can_be_instantiated_only_once_per_process;
+            cs.can_not_use_memory_management_functions =
+                caps.can_not_use_memory_management_functions;
             cs.can_get_and_set_fmu_state = caps.can_get_and_set_fmu_state;
             cs.can_serialize_fmu_state = caps.can_serialize_fmu_state;
             cs.provides_directional_derivative = caps.provides_directional_derivative;
@@ -119,7 +136,9 @@ fn description_xml(id: &str, guid: &str, what: &str, vars: &[Var], stop: f64, st
     for v in vars {
         b = b.real(real_var(v));
     }
-    let md = b.build().map_err(|e| format!("{id} model description: {e}"))?;
+    let md = b
+        .build()
+        .map_err(|e| format!("{id} model description: {e}"))?;
     Ok(md.to_xml_string())
 }
 
@@ -127,12 +146,24 @@ const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow 
 
 /// Package the model's FMUs and SSP into `out`. Existing files with the same GUIDs are reused.
 pub fn export(model: &Model, out: &Path) -> Result<Exported, String> {
+    export_with(model, out, true)
+}
+
+/// As [`export`]; `with_ssp = false` skips `system.ssp` (the co-simulation runs do not need it).
+pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let libs = library_dir()?;
     let track_csv = model.track.to_record_csv();
     let bridge_res = BridgeResources {
         modal: model.bridge.clone(),
-        probes: model.probes.iter().map(|(n, x)| ProbeSpec { name: n.clone(), x_m: *x }).collect(),
+        probes: model
+            .probes
+            .iter()
+            .map(|(n, x)| ProbeSpec {
+                name: n.clone(),
+                x_m: *x,
+            })
+            .collect(),
         n_wheelsets: model.train.n_wheelsets(),
         has_track_record: track_csv.is_some(),
     };
@@ -155,22 +186,70 @@ pub fn export(model: &Model, out: &Path) -> Result<Exported, String> {
     let stop = model.t_end();
     let bridge_path = out.join("bridge.fmu");
     let train_path = out.join("train.fmu");
-    if !has_guid(&bridge_path, &bridge_guid) {
+    if !is_current(
+        &bridge_path,
+        &bridge_guid,
+        BRIDGE_ID,
+        &libs.join("libbridge.so"),
+    ) {
         let what = "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
-        let xml = description_xml(BRIDGE_ID, &bridge_guid, what, &bridge_res.variables(), stop, model.dt)?;
+        let xml = description_xml(
+            BRIDGE_ID,
+            &bridge_guid,
+            what,
+            &bridge_res.variables(),
+            stop,
+            model.dt,
+        )?;
         let doc = DOC.replace("{TITLE}", "bridge").replace("{WHAT}", what);
-        write_fmu(&bridge_path, &xml, BRIDGE_ID, &libs.join("libbridge.so"), &bridge_files, Some(&doc))
-            .map_err(|e| format!("{}: {e}", bridge_path.display()))?;
+        write_fmu(
+            &bridge_path,
+            &xml,
+            BRIDGE_ID,
+            &libs.join("libbridge.so"),
+            &bridge_files,
+            Some(&doc),
+        )
+        .map_err(|e| format!("{}: {e}", bridge_path.display()))?;
     }
-    if !has_guid(&train_path, &train_guid) {
+    if !is_current(
+        &train_path,
+        &train_guid,
+        TRAIN_ID,
+        &libs.join("libtrain.so"),
+    ) {
         let what = "Train of linear vehicles (moving forces, sprung masses or 27-DOF coaches): rail motion in, wheel forces out";
-        let xml = description_xml(TRAIN_ID, &train_guid, what, &train_res.variables(), stop, model.dt)?;
+        let xml = description_xml(
+            TRAIN_ID,
+            &train_guid,
+            what,
+            &train_res.variables(),
+            stop,
+            model.dt,
+        )?;
         let doc = DOC.replace("{TITLE}", "train").replace("{WHAT}", what);
-        write_fmu(&train_path, &xml, TRAIN_ID, &libs.join("libtrain.so"), &[(TRAIN_RESOURCE.to_string(), train_json)], Some(&doc))
-            .map_err(|e| format!("{}: {e}", train_path.display()))?;
+        write_fmu(
+            &train_path,
+            &xml,
+            TRAIN_ID,
+            &libs.join("libtrain.so"),
+            &[(TRAIN_RESOURCE.to_string(), train_json)],
+            Some(&doc),
+        )
+        .map_err(|e| format!("{}: {e}", train_path.display()))?;
     }
     let ssp = out.join("system.ssp");
-    write_ssp(&ssp, &bridge_path, &train_path, &bridge_res, &train_res, stop, model.dt)?;
+    if with_ssp {
+        write_ssp(
+            &ssp,
+            &bridge_path,
+            &train_path,
+            &bridge_res,
+            &train_res,
+            stop,
+            model.dt,
+        )?;
+    }
     Ok(Exported {
         bridge: bridge_path,
         train: train_path,
@@ -182,16 +261,38 @@ pub fn export(model: &Model, out: &Path) -> Result<Exported, String> {
     })
 }
 
-fn has_guid(fmu: &Path, guid: &str) -> bool {
-    let Ok(f) = std::fs::File::open(fmu) else { return false };
-    let Ok(mut z) = zip::ZipArchive::new(f) else { return false };
-    let Ok(mut md) = z.by_name("modelDescription.xml") else { return false };
-    let mut s = String::new();
+/// Whether `fmu` exists with this GUID and exactly this shared object (so a rebuilt
+/// library is always repackaged).
+fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
     use std::io::Read;
-    if md.read_to_string(&mut s).is_err() {
+    let Ok(f) = std::fs::File::open(fmu) else {
+        return false;
+    };
+    let Ok(mut z) = zip::ZipArchive::new(f) else {
+        return false;
+    };
+    let mut s = String::new();
+    match z.by_name("modelDescription.xml") {
+        Ok(mut md) => {
+            if md.read_to_string(&mut s).is_err() {
+                return false;
+            }
+        }
+        Err(_) => return false,
+    }
+    if !s.contains(&format!("guid=\"{guid}\"")) {
         return false;
     }
-    s.contains(&format!("guid=\"{guid}\""))
+    let mut packed = Vec::new();
+    match z.by_name(&format!("binaries/linux64/{id}.so")) {
+        Ok(mut b) => {
+            if b.read_to_end(&mut packed).is_err() {
+                return false;
+            }
+        }
+        Err(_) => return false,
+    }
+    std::fs::read(so).map(|cur| cur == packed).unwrap_or(false)
 }
 
 /// The connections of the coupled system as (from FMU, variable, to FMU, variable).
@@ -199,17 +300,30 @@ pub fn connections(n_wheelsets: usize) -> Vec<(&'static str, String, &'static st
     let mut c = Vec::new();
     for w in 1..=n_wheelsets {
         for (ch, ..) in WHEEL_CHANNELS {
-            c.push(("train", format!("ws[{w}].{ch}"), "bridge", format!("ws[{w}].{ch}")));
+            c.push((
+                "train",
+                format!("ws[{w}].{ch}"),
+                "bridge",
+                format!("ws[{w}].{ch}"),
+            ));
         }
         for (ch, ..) in RAIL_CHANNELS {
-            c.push(("bridge", format!("ws[{w}].{ch}"), "train", format!("ws[{w}].{ch}")));
+            c.push((
+                "bridge",
+                format!("ws[{w}].{ch}"),
+                "train",
+                format!("ws[{w}].{ch}"),
+            ));
         }
     }
     c
 }
 
 fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 fn write_ssp(
@@ -265,15 +379,24 @@ fn write_ssp(
     let _ = step;
     let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut z = zip::ZipWriter::new(file);
-    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    let opts = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated);
     let mut add = |name: &str, bytes: &[u8]| -> Result<(), String> {
         use std::io::Write;
-        z.start_file(name, opts).map_err(|e| format!("{}: {e}", path.display()))?;
-        z.write_all(bytes).map_err(|e| format!("{}: {e}", path.display()))
+        z.start_file(name, opts)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        z.write_all(bytes)
+            .map_err(|e| format!("{}: {e}", path.display()))
     };
     add("SystemStructure.ssd", ssd.as_bytes())?;
-    add("resources/bridge.fmu", &std::fs::read(bridge).map_err(|e| format!("{}: {e}", bridge.display()))?)?;
-    add("resources/train.fmu", &std::fs::read(train).map_err(|e| format!("{}: {e}", train.display()))?)?;
+    add(
+        "resources/bridge.fmu",
+        &std::fs::read(bridge).map_err(|e| format!("{}: {e}", bridge.display()))?,
+    )?;
+    add(
+        "resources/train.fmu",
+        &std::fs::read(train).map_err(|e| format!("{}: {e}", train.display()))?,
+    )?;
     z.finish().map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
 }

@@ -1,15 +1,15 @@
 //! The `tbi` tool: scenarios, solvers, FMI import and the co-simulation master.
 pub mod bench;
-pub mod coupling;
 pub mod cosim;
+pub mod coupling;
 pub mod export;
+pub mod fmi;
 pub mod model;
 pub mod modes;
+pub mod package;
 pub mod plots;
 pub mod run;
 pub mod scenario;
+pub mod simulate;
 pub mod suspension;
 pub mod sweep;
-pub mod fmi;
-pub mod package;
-pub mod simulate;

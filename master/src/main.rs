@@ -3,7 +3,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "tbi", version, about = "Train–bridge dynamic interaction: monolithic solver, FMI 2.0 FMUs and co-simulation master")]
+#[command(
+    name = "tbi",
+    version,
+    about = "Train–bridge dynamic interaction: monolithic solver, FMI 2.0 FMUs and co-simulation master"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -44,7 +48,9 @@ fn main() -> ExitCode {
         Command::Export(args) => tbi::export::main(args),
         Command::Modes(args) => tbi::modes::main(args),
         Command::Sweep(args) => tbi::sweep::main(args),
-        Command::Scenario { what: ScenarioCommand::Show } => {
+        Command::Scenario {
+            what: ScenarioCommand::Show,
+        } => {
             print!("{}", tbi::scenario::DEFAULT_SCENARIO);
             Ok(())
         }

@@ -66,15 +66,34 @@ pub fn build_bridge(s: &Scenario) -> Result<ModalBridge, InputError> {
             modal_from_set(s, &set, &path.display().to_string(), 0.0, 0.0)
         }
         "suspension" => {
-            let set = crate::suspension::preset_modes(b.preset.as_deref().unwrap_or("tsing-ma"), b.modes)
-                .map_err(|e| InputError::field(&s.origin, "bridge.preset", b.preset.clone().unwrap_or_default(), e))?;
+            let set =
+                crate::suspension::preset_modes(b.preset.as_deref().unwrap_or("tsing-ma"), b.modes)
+                    .map_err(|e| {
+                        InputError::field(
+                            &s.origin,
+                            "bridge.preset",
+                            b.preset.clone().unwrap_or_default(),
+                            e,
+                        )
+                    })?;
             modal_from_set(s, &set, "built-in suspension model", 2.05, 1.25)
         }
-        other => Err(InputError::field(&s.origin, "bridge.kind", other, "unknown kind")),
+        other => Err(InputError::field(
+            &s.origin,
+            "bridge.kind",
+            other,
+            "unknown kind",
+        )),
     }
 }
 
-fn modal_from_set(s: &Scenario, set: &ModeSet, source: &str, e_default: f64, h4_default: f64) -> Result<ModalBridge, InputError> {
+fn modal_from_set(
+    s: &Scenario,
+    set: &ModeSet,
+    source: &str,
+    e_default: f64,
+    h4_default: f64,
+) -> Result<ModalBridge, InputError> {
     let b = &s.bridge;
     if b.modes > set.modes.len() {
         return Err(InputError::field(
@@ -103,7 +122,10 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
                 &s.origin,
                 format!("probe[{i}].x_m"),
                 p.x_m,
-                &format!("probe \"{}\" is off the bridge (the deck spans {} to {} m)", p.name, bridge.x_start_m, bridge.x_end_m),
+                &format!(
+                    "probe \"{}\" is off the bridge (the deck spans {} to {} m)",
+                    p.name, bridge.x_start_m, bridge.x_end_m
+                ),
             ));
         }
     }
@@ -123,7 +145,14 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
         .track
         .irregularity
         .build(x_lo, x_hi, &s.base_dir)
-        .map_err(|e| InputError::field(&s.origin, "track.irregularity", format!("{:?}", s.track.irregularity), &e.to_string()))?;
+        .map_err(|e| {
+            InputError::field(
+                &s.origin,
+                "track.irregularity",
+                format!("{:?}", s.track.irregularity),
+                &e.to_string(),
+            )
+        })?;
     Ok(Model {
         name: s.name.clone(),
         bridge,

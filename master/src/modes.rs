@@ -30,9 +30,13 @@ pub const TSING_MA_TARGETS: [(&str, &str, f64); 6] = [
 pub fn mode_set(s: &crate::scenario::Scenario) -> Result<ModeSet, String> {
     let b = &s.bridge;
     match b.kind.as_str() {
-        "suspension" => crate::suspension::preset_modes(b.preset.as_deref().unwrap_or("tsing-ma"), b.modes),
+        "suspension" => {
+            crate::suspension::preset_modes(b.preset.as_deref().unwrap_or("tsing-ma"), b.modes)
+        }
         "modal_file" => {
-            let path = s.base_dir.join(b.path.as_ref().ok_or("bridge.path missing")?);
+            let path = s
+                .base_dir
+                .join(b.path.as_ref().ok_or("bridge.path missing")?);
             let mut set = ModeSet::read(&path).map_err(|e| e.to_string())?;
             set.modes.truncate(b.modes);
             Ok(set)
@@ -79,11 +83,18 @@ pub fn table(set: &ModeSet, targets: bool) -> String {
         let _ = writeln!(t, "| {} | {:.4} | {} |", k + 1, m.frequency_hz, m.label);
     }
     if targets {
-        t.push_str("\n| target | measured (Hz) | model (Hz) | difference |\n|---|---:|---:|---:|\n");
+        t.push_str(
+            "\n| target | measured (Hz) | model (Hz) | difference |\n|---|---:|---:|---:|\n",
+        );
         for (label, name, f) in TSING_MA_TARGETS {
             match set.modes.iter().find(|m| m.label == label) {
                 Some(m) => {
-                    let _ = writeln!(t, "| {name} ({label}) | {f:.3} | {:.4} | {:+.1} % |", m.frequency_hz, 100.0 * (m.frequency_hz / f - 1.0));
+                    let _ = writeln!(
+                        t,
+                        "| {name} ({label}) | {f:.3} | {:.4} | {:+.1} % |",
+                        m.frequency_hz,
+                        100.0 * (m.frequency_hz / f - 1.0)
+                    );
                 }
                 None => {
                     let _ = writeln!(t, "| {name} ({label}) | {f:.3} | not among the modes | |");
@@ -99,12 +110,16 @@ pub fn main(args: ModesArgs) -> Result<(), Box<dyn std::error::Error>> {
     let set = mode_set(&s)?;
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let csv = args.out.join("modes.csv");
-    set.write(&csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    set.write(&csv)
+        .map_err(|e| format!("{}: {e}", csv.display()))?;
     let t = table(&set, s.bridge.kind == "suspension");
     std::fs::write(args.out.join("modes.md"), &t)?;
     plot_shapes(&args.out.join("mode_shapes.svg"), &set, 6)?;
     println!("{t}");
-    eprintln!("tbi: modes.csv, modes.md and mode_shapes.svg in {}", args.out.display());
+    eprintln!(
+        "tbi: modes.csv, modes.md and mode_shapes.svg in {}",
+        args.out.display()
+    );
     Ok(())
 }
 
@@ -118,13 +133,20 @@ pub fn plot_shapes(path: &Path, set: &ModeSet, n: usize) -> Result<(), String> {
     for (area, m) in root.split_evenly((n, 1)).iter().zip(&set.modes) {
         let peak = |v: &[f64]| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let mut chart = ChartBuilder::on(area)
-            .caption(format!("{} — {:.4} Hz", m.label, m.frequency_hz), ("sans-serif", 16))
+            .caption(
+                format!("{} — {:.4} Hz", m.label, m.frequency_hz),
+                ("sans-serif", 16),
+            )
             .margin(8)
             .x_label_area_size(25)
             .y_label_area_size(40)
             .build_cartesian_2d(x0..x1, -1.1f64..1.1f64)
             .map_err(|e| e.to_string())?;
-        chart.configure_mesh().x_desc("x (m)").draw().map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc("x (m)")
+            .draw()
+            .map_err(|e| e.to_string())?;
         for (vals, name, color) in [
             (&m.vertical, "vertical", RGBColor(31, 119, 180)),
             (&m.lateral, "lateral", RGBColor(214, 39, 40)),
@@ -135,7 +157,10 @@ pub fn plot_shapes(path: &Path, set: &ModeSet, n: usize) -> Result<(), String> {
                 continue;
             }
             chart
-                .draw_series(LineSeries::new(set.x_m.iter().zip(vals.iter()).map(|(x, v)| (*x, v / p)), color))
+                .draw_series(LineSeries::new(
+                    set.x_m.iter().zip(vals.iter()).map(|(x, v)| (*x, v / p)),
+                    color,
+                ))
                 .map_err(|e| e.to_string())?
                 .label(name)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], color));
@@ -146,5 +171,6 @@ pub fn plot_shapes(path: &Path, set: &ModeSet, n: usize) -> Result<(), String> {
             .draw()
             .map_err(|e| e.to_string())?;
     }
-    root.present().map_err(|e| format!("{}: {e}", path.display()))
+    root.present()
+        .map_err(|e| format!("{}: {e}", path.display()))
 }

@@ -14,7 +14,8 @@ pub struct History {
 
 impl History {
     pub fn read(path: &Path) -> Result<History, String> {
-        let mut rdr = csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut rdr =
+            csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let names: Vec<String> = rdr
             .headers()
             .map_err(|e| format!("{}: {e}", path.display()))?
@@ -25,9 +26,14 @@ impl History {
         for (i, rec) in rdr.records().enumerate() {
             let rec = rec.map_err(|e| format!("{}: {e}", path.display()))?;
             for (c, v) in rec.iter().enumerate() {
-                let x: f64 = v
-                    .parse()
-                    .map_err(|_| format!("{}:{}: column {} value `{v}` is not a number", path.display(), i + 2, names[c]))?;
+                let x: f64 = v.parse().map_err(|_| {
+                    format!(
+                        "{}:{}: column {} value `{v}` is not a number",
+                        path.display(),
+                        i + 2,
+                        names[c]
+                    )
+                })?;
                 columns[c].push(x);
             }
         }
@@ -35,7 +41,10 @@ impl History {
     }
 
     pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.names.iter().position(|n| n == name).map(|i| self.columns[i].as_slice())
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .map(|i| self.columns[i].as_slice())
     }
 }
 
@@ -94,7 +103,10 @@ where
     for (k, (name, s)) in series.iter().enumerate() {
         let color = COLORS[k % COLORS.len()];
         chart
-            .draw_series(LineSeries::new(t.iter().copied().zip(s.iter().copied()), color.stroke_width(1)))
+            .draw_series(LineSeries::new(
+                t.iter().copied().zip(s.iter().copied()),
+                color.stroke_width(1),
+            ))
             .map_err(|e| e.to_string())?
             .label(name.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
@@ -110,7 +122,11 @@ where
     Ok(())
 }
 
-fn figure(path: &Path, panels: &[(&str, &str, Vec<(String, Vec<f64>)>)], t: &[f64]) -> Result<(), String> {
+fn figure(
+    path: &Path,
+    panels: &[(&str, &str, Vec<(String, Vec<f64>)>)],
+    t: &[f64],
+) -> Result<(), String> {
     let height = 320 * panels.len() as u32;
     let root = SVGBackend::new(path, (1000, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| e.to_string())?;
@@ -118,7 +134,8 @@ fn figure(path: &Path, panels: &[(&str, &str, Vec<(String, Vec<f64>)>)], t: &[f6
     for (area, (title, ylabel, series)) in areas.iter().zip(panels) {
         panel(area, title, ylabel, t, series)?;
     }
-    root.present().map_err(|e| format!("{}: {e}", path.display()))
+    root.present()
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Write the run's plots next to its history.
@@ -129,33 +146,60 @@ pub fn write_run_plots(out: &Path, model: &Model, history: &Path) -> Result<(), 
         model
             .probes
             .iter()
-            .filter_map(|(name, _)| h.column(&format!("{name}.{suffix}")).map(|c| (name.clone(), c.to_vec())))
+            .filter_map(|(name, _)| {
+                h.column(&format!("{name}.{suffix}"))
+                    .map(|c| (name.clone(), c.to_vec()))
+            })
             .collect()
     };
     if !model.probes.is_empty() {
         figure(
             &out.join("deck_vertical.svg"),
             &[
-                ("Deck vertical displacement (+ down)", "m", probe_series("vertical_displacement_m")),
-                ("Deck vertical acceleration", "m/s²", probe_series("vertical_acceleration_m_s2")),
+                (
+                    "Deck vertical displacement (+ down)",
+                    "m",
+                    probe_series("vertical_displacement_m"),
+                ),
+                (
+                    "Deck vertical acceleration",
+                    "m/s²",
+                    probe_series("vertical_acceleration_m_s2"),
+                ),
             ],
             &t,
         )?;
         figure(
             &out.join("deck_lateral.svg"),
             &[
-                ("Deck lateral displacement", "m", probe_series("lateral_displacement_m")),
-                ("Deck lateral acceleration", "m/s²", probe_series("lateral_acceleration_m_s2")),
+                (
+                    "Deck lateral displacement",
+                    "m",
+                    probe_series("lateral_displacement_m"),
+                ),
+                (
+                    "Deck lateral acceleration",
+                    "m/s²",
+                    probe_series("lateral_acceleration_m_s2"),
+                ),
             ],
             &t,
         )?;
     }
     let mut veh = Vec::new();
     if let Some(c) = h.column("veh1.lateral_acceleration_m_s2") {
-        veh.push(("Car body 1 lateral acceleration", "m/s²", vec![("lateral".to_string(), c.to_vec())]));
+        veh.push((
+            "Car body 1 lateral acceleration",
+            "m/s²",
+            vec![("lateral".to_string(), c.to_vec())],
+        ));
     }
     if let Some(c) = h.column("veh1.vertical_acceleration_m_s2") {
-        veh.push(("Car body 1 vertical acceleration", "m/s²", vec![("vertical".to_string(), c.to_vec())]));
+        veh.push((
+            "Car body 1 vertical acceleration",
+            "m/s²",
+            vec![("vertical".to_string(), c.to_vec())],
+        ));
     }
     if !veh.is_empty() {
         figure(&out.join("vehicle1_acceleration.svg"), &veh, &t)?;

@@ -24,7 +24,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Override the scenario's speed, km/h.
-    #[arg(long = "speed-kmh")]
+    #[arg(long = "speed-kmh", allow_negative_numbers = true)]
     pub speed_kmh: Option<f64>,
     /// No progress bar.
     #[arg(long)]
@@ -32,7 +32,11 @@ pub struct RunArgs {
 }
 
 /// Load the scenario named on the command line (or the embedded one) with overrides.
-pub fn load_scenario(path: Option<&Path>, solver: Option<&str>, speed_kmh: Option<f64>) -> Result<Scenario, String> {
+pub fn load_scenario(
+    path: Option<&Path>,
+    solver: Option<&str>,
+    speed_kmh: Option<f64>,
+) -> Result<Scenario, String> {
     let mut s = match path {
         Some(p) => Scenario::from_path(p).map_err(|e| e.to_string())?,
         None => Scenario::default_case(),
@@ -41,7 +45,11 @@ pub fn load_scenario(path: Option<&Path>, solver: Option<&str>, speed_kmh: Optio
         s.run.solver = match sv {
             "monolithic" => SolverKind::Monolithic,
             "cosim" => SolverKind::Cosim,
-            other => return Err(format!("--solver {other}: expected \"monolithic\" or \"cosim\"")),
+            other => {
+                return Err(format!(
+                    "--solver {other}: expected \"monolithic\" or \"cosim\""
+                ))
+            }
         };
     }
     if let Some(v) = speed_kmh {
@@ -52,7 +60,11 @@ pub fn load_scenario(path: Option<&Path>, solver: Option<&str>, speed_kmh: Optio
 }
 
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let scenario = load_scenario(args.scenario.as_deref(), args.solver.as_deref(), args.speed_kmh)?;
+    let scenario = load_scenario(
+        args.scenario.as_deref(),
+        args.solver.as_deref(),
+        args.speed_kmh,
+    )?;
     let out = args
         .out
         .clone()
@@ -71,7 +83,12 @@ pub fn layout(model: &Model) -> Layout {
             .train
             .vehicles
             .iter()
-            .map(|v| [v.model.body.lateral.is_some(), v.model.body.vertical.is_some()])
+            .map(|v| {
+                [
+                    v.model.body.lateral.is_some(),
+                    v.model.body.vertical.is_some(),
+                ]
+            })
             .collect(),
         wheelsets: model
             .train
@@ -93,20 +110,31 @@ pub fn progress(steps: usize, enabled: bool) -> indicatif::ProgressBar {
     }
     let pb = indicatif::ProgressBar::new(steps as u64);
     pb.set_style(
-        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} steps ({per_sec}, eta {eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} steps ({per_sec}, eta {eta})",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
     pb
 }
 
 /// Run a scenario into `out`; returns the summary (also written as `summary.json`).
-pub fn run_scenario(scenario: &Scenario, out: &Path, show_progress: bool) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create output folder: {e}", out.display()))?;
+pub fn run_scenario(
+    scenario: &Scenario,
+    out: &Path,
+    show_progress: bool,
+) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| format!("{}: cannot create output folder: {e}", out.display()))?;
     let model = build(scenario)?;
     let history = out.join("history.csv");
     let file = File::create(&history).map_err(|e| format!("{}: {e}", history.display()))?;
-    let mut rec = Recorder::new(layout(&model), &model.probes.iter().map(|p| p.1).collect::<Vec<_>>(), Some(BufWriter::new(file)))?;
+    let mut rec = Recorder::new(
+        layout(&model),
+        &model.probes.iter().map(|p| p.1).collect::<Vec<_>>(),
+        Some(BufWriter::new(file)),
+    )?;
     let start = Instant::now();
     let result = match scenario.run.solver {
         SolverKind::Monolithic => run_monolithic(&model, &mut rec, show_progress).map(|_| None),
@@ -125,26 +153,40 @@ pub fn run_scenario(scenario: &Scenario, out: &Path, show_progress: bool) -> Res
                 summary["coupling"] = c;
             }
             write_summary(out, &summary)?;
-            crate::plots::write_run_plots(out, &model, &history).map_err(|e| format!("plots in {}: {e}", out.display()))?;
+            crate::plots::write_run_plots(out, &model, &history)
+                .map_err(|e| format!("plots in {}: {e}", out.display()))?;
             Ok(summary)
         }
         Err(e) => {
             summary["status"] = json!("failed");
             summary["error"] = json!(e.to_string());
             write_summary(out, &summary)?;
-            Err(format!("{e} (partial results up to the failure are in {})", out.display()).into())
+            Err(format!(
+                "{e} (partial results up to the failure are in {})",
+                out.display()
+            )
+            .into())
         }
     }
 }
 
-fn write_summary(out: &Path, summary: &serde_json::Value) -> Result<(), Box<dyn std::error::Error>> {
+fn write_summary(
+    out: &Path,
+    summary: &serde_json::Value,
+) -> Result<(), Box<dyn std::error::Error>> {
     let p = out.join("summary.json");
-    std::fs::write(&p, serde_json::to_string_pretty(summary)?).map_err(|e| format!("{}: {e}", p.display()))?;
+    std::fs::write(&p, serde_json::to_string_pretty(summary)?)
+        .map_err(|e| format!("{}: {e}", p.display()))?;
     Ok(())
 }
 
 /// `summary.json` content.
-pub fn summary_json<W: std::io::Write>(s: &Scenario, model: &Model, rec: &Recorder<W>, wall: f64) -> serde_json::Value {
+pub fn summary_json<W: std::io::Write>(
+    s: &Scenario,
+    model: &Model,
+    rec: &Recorder<W>,
+    wall: f64,
+) -> serde_json::Value {
     let mut probes = serde_json::Map::new();
     for ((name, _), m) in model.probes.iter().zip(&rec.probes) {
         probes.insert(name.clone(), serde_json::to_value(m).expect("serialisable"));
@@ -222,24 +264,45 @@ pub fn monolithic_sample(sol: &Monolithic, shapes: &ProbeShapes) -> Sample {
             .vehicles
             .iter()
             .zip(&sol.vehicles)
-            .map(|(tv, s)| [tv.model.body.lateral.map(|i| s.vdd[i]), tv.model.body.vertical.map(|i| s.vdd[i])])
+            .map(|(tv, s)| {
+                [
+                    tv.model.body.lateral.map(|i| s.vdd[i]),
+                    tv.model.body.vertical.map(|i| s.vdd[i]),
+                ]
+            })
             .collect(),
         forces: sol.forces.clone(),
     }
 }
 
 /// Integrate the model with the monolithic solver of eq. (14).
-pub fn run_monolithic<W: std::io::Write>(model: &Model, rec: &mut Recorder<W>, show_progress: bool) -> Result<(), Box<dyn std::error::Error>> {
-    let mut sol = Monolithic::new(model.bridge.clone(), model.train.clone(), model.track.clone(), model.dt);
+pub fn run_monolithic<W: std::io::Write>(
+    model: &Model,
+    rec: &mut Recorder<W>,
+    show_progress: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut sol = Monolithic::new(
+        model.bridge.clone(),
+        model.train.clone(),
+        model.track.clone(),
+        model.dt,
+    );
     let shapes = ProbeShapes::new(model);
     rec.record(&monolithic_sample(&sol, &shapes), true)?;
     let pb = progress(model.steps, show_progress);
     for k in 1..=model.steps {
         sol.step();
         if !sol.q.iter().all(|v| v.is_finite()) {
-            return Err(format!("monolithic solver: non-finite bridge response at t = {} s", sol.t).into());
+            return Err(format!(
+                "monolithic solver: non-finite bridge response at t = {} s",
+                sol.t
+            )
+            .into());
         }
-        rec.record(&monolithic_sample(&sol, &shapes), k % model.output_every == 0 || k == model.steps)?;
+        rec.record(
+            &monolithic_sample(&sol, &shapes),
+            k % model.output_every == 0 || k == model.steps,
+        )?;
         if k % 256 == 0 {
             pb.set_position(k as u64);
         }

@@ -175,6 +175,12 @@ fn default_modes() -> usize {
     20
 }
 
+/// A table on one line, `{ key = value, ... }`, for messages.
+fn inline_table(t: &toml::Table) -> String {
+    let items: Vec<String> = t.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    format!("{{ {} }}", items.join(", "))
+}
+
 /// `[train]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -222,8 +228,12 @@ impl Scenario {
 
     /// The embedded default scenario.
     pub fn default_case() -> Scenario {
-        Self::from_toml(DEFAULT_SCENARIO, "<embedded default scenario>", Path::new("."))
-            .expect("the embedded scenario is valid")
+        Self::from_toml(
+            DEFAULT_SCENARIO,
+            "<embedded default scenario>",
+            Path::new("."),
+        )
+        .expect("the embedded scenario is valid")
     }
 
     /// Parse and validate TOML text; `origin` names it in messages.
@@ -231,7 +241,7 @@ impl Scenario {
         let mut s: Scenario = toml::from_str(text).map_err(|e| {
             let line = e
                 .span()
-                .map(|sp| text[..sp.start.min(text.len())].lines().count().max(1))
+                .map(|sp| text[..sp.start.min(text.len())].matches('\n').count() + 1)
                 .unwrap_or(0);
             InputError::line(origin, line, e.message().to_string())
         })?;
@@ -282,7 +292,11 @@ impl Scenario {
         let mut names = std::collections::HashSet::new();
         for (i, p) in self.probes.iter().enumerate() {
             if p.name.is_empty() || p.name.contains(',') || p.name.contains('"') {
-                return Err(self.err(&format!("probe[{i}].name"), format!("{:?}", p.name), "must be non-empty without commas or quotes"));
+                return Err(self.err(
+                    &format!("probe[{i}].name"),
+                    format!("{:?}", p.name),
+                    "must be non-empty without commas or quotes",
+                ));
             }
             if !names.insert(p.name.clone()) {
                 return Err(self.err(&format!("probe[{i}].name"), &p.name, "is used twice"));
@@ -303,14 +317,21 @@ impl Scenario {
             return Err(self.err("bridge.modes", 0, "must be at least 1"));
         }
         if !(0.0..1.0).contains(&b.damping_ratio) {
-            return Err(self.err("bridge.damping_ratio", b.damping_ratio, "must lie in [0, 1)"));
+            return Err(self.err(
+                "bridge.damping_ratio",
+                b.damping_ratio,
+                "must lie in [0, 1)",
+            ));
         }
         if let Some(z) = b.damping_ratio_torsional {
             if !(0.0..1.0).contains(&z) {
                 return Err(self.err("bridge.damping_ratio_torsional", z, "must lie in [0, 1)"));
             }
         }
-        for (name, v) in [("bridge.track_eccentricity_m", b.track_eccentricity_m), ("bridge.track_height_m", b.track_height_m)] {
+        for (name, v) in [
+            ("bridge.track_eccentricity_m", b.track_eccentricity_m),
+            ("bridge.track_height_m", b.track_height_m),
+        ] {
             if let Some(v) = v {
                 if !v.is_finite() {
                     return Err(self.err(name, v, "must be finite"));
@@ -331,17 +352,32 @@ impl Scenario {
         let refuse = |fields: &[(&str, bool)]| -> Result<(), InputError> {
             for (name, set) in fields {
                 if *set {
-                    return Err(self.err(&format!("bridge.{name}"), "(set)", &format!("does not apply to kind \"{}\"", b.kind)));
+                    return Err(self.err(
+                        &format!("bridge.{name}"),
+                        "(set)",
+                        &format!("does not apply to kind \"{}\"", b.kind),
+                    ));
                 }
             }
             Ok(())
         };
         match b.kind.as_str() {
             "simply_supported" => {
-                for name in ["span_m", "youngs_modulus_pa", "inertia_vertical_m4", "mass_per_length_kg_m"] {
+                for name in [
+                    "span_m",
+                    "youngs_modulus_pa",
+                    "inertia_vertical_m4",
+                    "mass_per_length_kg_m",
+                ] {
                     let v = ss_fields.iter().find(|f| f.0 == name).and_then(|f| f.1);
                     match v {
-                        None => return Err(self.err(&format!("bridge.{name}"), "(missing)", "is required for kind \"simply_supported\"")),
+                        None => {
+                            return Err(self.err(
+                                &format!("bridge.{name}"),
+                                "(missing)",
+                                "is required for kind \"simply_supported\"",
+                            ))
+                        }
                         Some(v) => self.positive(&format!("bridge.{name}"), v)?,
                     }
                 }
@@ -350,7 +386,11 @@ impl Scenario {
                         self.positive(&format!("bridge.{name}"), *v)?;
                     }
                 }
-                let tors = [b.shear_modulus_pa, b.torsion_constant_m4, b.polar_inertia_kg_m];
+                let tors = [
+                    b.shear_modulus_pa,
+                    b.torsion_constant_m4,
+                    b.polar_inertia_kg_m,
+                ];
                 let n = tors.iter().filter(|t| t.is_some()).count();
                 if n != 0 && n != 3 {
                     return Err(self.err("bridge.shear_modulus_pa", format!("{:?}", b.shear_modulus_pa), "torsion needs shear_modulus_pa, torsion_constant_m4 and polar_inertia_kg_m together"));
@@ -360,33 +400,63 @@ impl Scenario {
                         return Err(self.err("bridge.x_start_m", x, "must be finite"));
                     }
                 }
-                refuse(&[("path", b.path.is_some()), ("preset", b.preset.is_some()), ("interpolation_points", b.interpolation_points.is_some())])?;
+                refuse(&[
+                    ("path", b.path.is_some()),
+                    ("preset", b.preset.is_some()),
+                    ("interpolation_points", b.interpolation_points.is_some()),
+                ])?;
             }
             "modal_file" => {
                 if b.path.is_none() {
-                    return Err(self.err("bridge.path", "(missing)", "is required for kind \"modal_file\""));
+                    return Err(self.err(
+                        "bridge.path",
+                        "(missing)",
+                        "is required for kind \"modal_file\"",
+                    ));
                 }
                 if let Some(p) = b.interpolation_points {
                     if !(2..=8).contains(&p) {
-                        return Err(self.err("bridge.interpolation_points", p, "must lie in 2..=8"));
+                        return Err(self.err(
+                            "bridge.interpolation_points",
+                            p,
+                            "must lie in 2..=8",
+                        ));
                     }
                 }
-                let set: Vec<(&str, bool)> = ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
+                let set: Vec<(&str, bool)> =
+                    ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
                 refuse(&set)?;
                 refuse(&[("preset", b.preset.is_some())])?;
             }
             "suspension" => {
                 match b.preset.as_deref() {
                     Some("tsing-ma") => {}
-                    Some(p) => return Err(self.err("bridge.preset", format!("\"{p}\""), "unknown preset; available: \"tsing-ma\"")),
-                    None => return Err(self.err("bridge.preset", "(missing)", "is required for kind \"suspension\" (available: \"tsing-ma\")")),
+                    Some(p) => {
+                        return Err(self.err(
+                            "bridge.preset",
+                            format!("\"{p}\""),
+                            "unknown preset; available: \"tsing-ma\"",
+                        ))
+                    }
+                    None => {
+                        return Err(self.err(
+                            "bridge.preset",
+                            "(missing)",
+                            "is required for kind \"suspension\" (available: \"tsing-ma\")",
+                        ))
+                    }
                 }
                 if let Some(p) = b.interpolation_points {
                     if !(2..=8).contains(&p) {
-                        return Err(self.err("bridge.interpolation_points", p, "must lie in 2..=8"));
+                        return Err(self.err(
+                            "bridge.interpolation_points",
+                            p,
+                            "must lie in 2..=8",
+                        ));
                     }
                 }
-                let set: Vec<(&str, bool)> = ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
+                let set: Vec<(&str, bool)> =
+                    ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
                 refuse(&set)?;
                 refuse(&[("path", b.path.is_some())])?;
             }
@@ -405,13 +475,25 @@ impl Scenario {
     pub fn train_axles(&self) -> Result<TrainSpec, InputError> {
         let t = &self.train;
         let only_axles = |kind: &str| -> Result<(), InputError> {
-            for (name, set) in [("preset", t.preset.is_some()), ("vehicles", t.vehicles.is_some()), ("coach", t.coach.is_some())] {
+            for (name, set) in [
+                ("preset", t.preset.is_some()),
+                ("vehicles", t.vehicles.is_some()),
+                ("coach", t.coach.is_some()),
+            ] {
                 if set {
-                    return Err(self.err(&format!("train.{name}"), "(set)", &format!("does not apply to kind \"{kind}\"")));
+                    return Err(self.err(
+                        &format!("train.{name}"),
+                        "(set)",
+                        &format!("does not apply to kind \"{kind}\""),
+                    ));
                 }
             }
             if t.axles.is_empty() {
-                return Err(self.err("train.axles", "[]", &format!("kind \"{kind}\" needs at least one axle")));
+                return Err(self.err(
+                    "train.axles",
+                    "[]",
+                    &format!("kind \"{kind}\" needs at least one axle"),
+                ));
             }
             Ok(())
         };
@@ -420,13 +502,17 @@ impl Scenario {
                 only_axles("moving_force")?;
                 let mut out = Vec::new();
                 for (i, a) in t.axles.iter().enumerate() {
-                    let ax: MovingForceAxle = a
-                        .clone()
-                        .try_into()
-                        .map_err(|e: toml::de::Error| self.err(&format!("train.axles[{i}]"), a, e.message()))?;
+                    let ax: MovingForceAxle =
+                        a.clone().try_into().map_err(|e: toml::de::Error| {
+                            self.err(&format!("train.axles[{i}]"), inline_table(a), e.message())
+                        })?;
                     self.non_negative(&format!("train.axles[{i}].offset_m"), ax.offset_m)?;
                     if !ax.load_n.is_finite() {
-                        return Err(self.err(&format!("train.axles[{i}].load_n"), ax.load_n, "must be finite"));
+                        return Err(self.err(
+                            &format!("train.axles[{i}].load_n"),
+                            ax.load_n,
+                            "must be finite",
+                        ));
                     }
                     out.push(ax);
                 }
@@ -436,36 +522,60 @@ impl Scenario {
                 only_axles("sprung_mass")?;
                 let mut out = Vec::new();
                 for (i, a) in t.axles.iter().enumerate() {
-                    let ax: SprungMassAxle = a
-                        .clone()
-                        .try_into()
-                        .map_err(|e: toml::de::Error| self.err(&format!("train.axles[{i}]"), a, e.message()))?;
+                    let ax: SprungMassAxle =
+                        a.clone().try_into().map_err(|e: toml::de::Error| {
+                            self.err(&format!("train.axles[{i}]"), inline_table(a), e.message())
+                        })?;
                     self.non_negative(&format!("train.axles[{i}].offset_m"), ax.offset_m)?;
-                    self.positive(&format!("train.axles[{i}].sprung_mass_kg"), ax.sprung_mass_kg)?;
+                    self.positive(
+                        &format!("train.axles[{i}].sprung_mass_kg"),
+                        ax.sprung_mass_kg,
+                    )?;
                     self.positive(&format!("train.axles[{i}].stiffness_n_m"), ax.stiffness_n_m)?;
                     self.non_negative(&format!("train.axles[{i}].damping_ns_m"), ax.damping_ns_m)?;
-                    self.non_negative(&format!("train.axles[{i}].wheel_mass_kg"), ax.wheel_mass_kg)?;
+                    self.non_negative(
+                        &format!("train.axles[{i}].wheel_mass_kg"),
+                        ax.wheel_mass_kg,
+                    )?;
                     out.push(ax);
                 }
                 Ok(TrainSpec::SprungMass(out))
             }
             "coach_27dof" => {
                 if !t.axles.is_empty() {
-                    return Err(self.err("train.axles", "(set)", "does not apply to kind \"coach_27dof\" (use preset, vehicles, coach)"));
+                    return Err(self.err(
+                        "train.axles",
+                        "(set)",
+                        "does not apply to kind \"coach_27dof\" (use preset, vehicles, coach)",
+                    ));
                 }
                 let mut params = match t.preset.as_deref().unwrap_or("xia2000") {
                     "xia2000" => CoachParams::xia2000(),
-                    p => return Err(self.err("train.preset", format!("\"{p}\""), "unknown preset; available: \"xia2000\"")),
+                    p => {
+                        return Err(self.err(
+                            "train.preset",
+                            format!("\"{p}\""),
+                            "unknown preset; available: \"xia2000\"",
+                        ))
+                    }
                 };
                 if let Some(over) = &t.coach {
                     for (k, v) in over {
                         let val = v
                             .as_float()
                             .or_else(|| v.as_integer().map(|i| i as f64))
-                            .ok_or_else(|| self.err(&format!("train.coach.{k}"), v, "must be a number"))?;
+                            .ok_or_else(|| {
+                                self.err(&format!("train.coach.{k}"), v, "must be a number")
+                            })?;
                         match params.field_mut(k) {
                             Some(f) => *f = val,
-                            None => return Err(self.err(&format!("train.coach.{k}"), val, "unknown coach parameter")),
+                            None => {
+                                return Err(self.err(
+                                    &format!("train.coach.{k}"),
+                                    val,
+                                    "unknown coach parameter",
+                                ))
+                            }
                         }
                     }
                 }

@@ -13,7 +13,9 @@ pub const PRESETS: &[&str] = &["tsing-ma"];
 pub fn preset_params(name: &str) -> Result<SuspensionBridgeParams, String> {
     match name {
         "tsing-ma" => Ok(SuspensionBridgeParams::tsing_ma()),
-        other => Err(format!("unknown suspension preset \"{other}\"; available: {PRESETS:?}")),
+        other => Err(format!(
+            "unknown suspension preset \"{other}\"; available: {PRESETS:?}"
+        )),
     }
 }
 
@@ -39,7 +41,11 @@ pub fn preset_modes(name: &str, modes: usize) -> Result<ModeSet, String> {
     let mut set = result.to_mode_set();
     set.modes.retain(|m| !m.label.starts_with('C'));
     if set.modes.len() < modes {
-        return Err(format!("the {name} model has only {} deck modes among its lowest {} modes", set.modes.len(), 2 * modes + 10));
+        return Err(format!(
+            "the {name} model has only {} deck modes among its lowest {} modes",
+            set.modes.len(),
+            2 * modes + 10
+        ));
     }
     set.modes.truncate(modes);
     guard.insert(key, set.clone());

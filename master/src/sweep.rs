@@ -34,7 +34,11 @@ pub struct Row {
 fn probe_max(s: &Value, key: &str) -> f64 {
     s["probes"]
         .as_object()
-        .map(|m| m.values().map(|p| p[key].as_f64().unwrap_or(0.0)).fold(0.0, f64::max))
+        .map(|m| {
+            m.values()
+                .map(|p| p[key].as_f64().unwrap_or(0.0))
+                .fold(0.0, f64::max)
+        })
         .unwrap_or(0.0)
 }
 
@@ -43,14 +47,64 @@ pub const PAPER_SPEEDS: [f64; 4] = [20.0, 40.0, 70.0, 120.0];
 
 /// Table 2 of Xia, Xu & Chan (2000) and how each row is read from a summary.
 pub const TABLE2: [Row; 8] = [
-    Row { name: "Deck vertical displacement", unit: "cm", paper: [49.39, 49.52, 51.29, 54.04], value: |s| 100.0 * probe_max(s, "vertical_displacement_max_m") },
-    Row { name: "Deck vertical acceleration", unit: "cm/s²", paper: [0.0845, 0.332, 0.878, 3.156], value: |s| 100.0 * probe_max(s, "vertical_acceleration_max_m_s2") },
-    Row { name: "Deck lateral displacement", unit: "mm", paper: [15.07, 10.83, 8.058, 4.686], value: |s| 1000.0 * probe_max(s, "lateral_displacement_max_m") },
-    Row { name: "Deck lateral acceleration", unit: "cm/s²", paper: [0.931, 1.097, 1.298, 2.234], value: |s| 100.0 * probe_max(s, "lateral_acceleration_max_m_s2") },
-    Row { name: "Vehicle vertical acceleration", unit: "cm/s²", paper: [12.96, 31.85, 48.29, 74.31], value: |s| 100.0 * s["vehicles"]["vertical_acceleration_max_m_s2"].as_f64().unwrap_or(0.0) },
-    Row { name: "Vehicle lateral acceleration", unit: "cm/s²", paper: [19.01, 38.19, 40.05, 51.92], value: |s| 100.0 * s["vehicles"]["lateral_acceleration_max_m_s2"].as_f64().unwrap_or(0.0) },
-    Row { name: "Derail factor", unit: "Q/P", paper: [0.247, 0.287, 0.306, 0.413], value: |s| s["safety"]["derail_factor_max"].as_f64().unwrap_or(0.0) },
-    Row { name: "Offload factor", unit: "ΔP/P", paper: [0.380, 0.381, 0.393, 0.410], value: |s| s["safety"]["offload_factor_max"].as_f64().unwrap_or(0.0) },
+    Row {
+        name: "Deck vertical displacement",
+        unit: "cm",
+        paper: [49.39, 49.52, 51.29, 54.04],
+        value: |s| 100.0 * probe_max(s, "vertical_displacement_max_m"),
+    },
+    Row {
+        name: "Deck vertical acceleration",
+        unit: "cm/s²",
+        paper: [0.0845, 0.332, 0.878, 3.156],
+        value: |s| 100.0 * probe_max(s, "vertical_acceleration_max_m_s2"),
+    },
+    Row {
+        name: "Deck lateral displacement",
+        unit: "mm",
+        paper: [15.07, 10.83, 8.058, 4.686],
+        value: |s| 1000.0 * probe_max(s, "lateral_displacement_max_m"),
+    },
+    Row {
+        name: "Deck lateral acceleration",
+        unit: "cm/s²",
+        paper: [0.931, 1.097, 1.298, 2.234],
+        value: |s| 100.0 * probe_max(s, "lateral_acceleration_max_m_s2"),
+    },
+    Row {
+        name: "Vehicle vertical acceleration",
+        unit: "cm/s²",
+        paper: [12.96, 31.85, 48.29, 74.31],
+        value: |s| {
+            100.0
+                * s["vehicles"]["vertical_acceleration_max_m_s2"]
+                    .as_f64()
+                    .unwrap_or(0.0)
+        },
+    },
+    Row {
+        name: "Vehicle lateral acceleration",
+        unit: "cm/s²",
+        paper: [19.01, 38.19, 40.05, 51.92],
+        value: |s| {
+            100.0
+                * s["vehicles"]["lateral_acceleration_max_m_s2"]
+                    .as_f64()
+                    .unwrap_or(0.0)
+        },
+    },
+    Row {
+        name: "Derail factor",
+        unit: "Q/P",
+        paper: [0.247, 0.287, 0.306, 0.413],
+        value: |s| s["safety"]["derail_factor_max"].as_f64().unwrap_or(0.0),
+    },
+    Row {
+        name: "Offload factor",
+        unit: "ΔP/P",
+        paper: [0.380, 0.381, 0.393, 0.410],
+        value: |s| s["safety"]["offload_factor_max"].as_f64().unwrap_or(0.0),
+    },
 ];
 
 pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -84,7 +138,10 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     std::fs::write(args.out.join("table.md"), &md)?;
     std::fs::write(args.out.join("table.csv"), &csv)?;
     println!("{md}");
-    eprintln!("tbi: table.md, table.csv and the runs in {}", args.out.display());
+    eprintln!(
+        "tbi: table.md, table.csv and the runs in {}",
+        args.out.display()
+    );
     Ok(())
 }
 
@@ -107,7 +164,10 @@ pub fn tables(speeds: &[f64], summaries: &[Value]) -> (String, String) {
         let _ = write!(csv, "{},{}", row.name, row.unit);
         for (v, s) in speeds.iter().zip(summaries) {
             let ours = (row.value)(s);
-            let paper = PAPER_SPEEDS.iter().position(|p| (p - v).abs() < 1e-9).map(|i| row.paper[i]);
+            let paper = PAPER_SPEEDS
+                .iter()
+                .position(|p| (p - v).abs() < 1e-9)
+                .map(|i| row.paper[i]);
             match paper {
                 Some(p) => {
                     let _ = write!(md, " {ours:.4} | {p} | {:.2} |", ours / p);

@@ -21,7 +21,7 @@ use crate::train::{Train, WheelsetRef};
 use crate::vehicle::LinearVehicle;
 use nalgebra::{Cholesky, DVector, Dyn, Vector3};
 use serde::{Deserialize, Serialize};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// The inputs of one wheelset to the bridge.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -66,6 +66,9 @@ pub struct BridgeSide {
     omega: Vec<f64>,
     zeta: Vec<f64>,
     scratch: Vec<[f64; 3]>,
+    /// Rail shapes at recent positions, shared by clones (it holds derived data only, keyed
+    /// by position, so a restored state may use it too).
+    cache: Arc<Mutex<ShapeCache>>,
 }
 
 impl BridgeSide {
@@ -80,20 +83,30 @@ impl BridgeSide {
                 qdd: vec![0.0; nb],
             },
             scratch: vec![[0.0; 3]; nb],
+            cache: Arc::new(Mutex::new(ShapeCache::default())),
             bridge,
             track,
         }
     }
 
+    /// Run `f` with the rail shapes of wheelset slot `w` at `x` (on deck, Ψ).
+    fn with_shapes<R>(&self, w: usize, x: f64, f: impl FnOnce(bool, &[[f64; 3]]) -> R) -> R {
+        let nb = self.omega.len();
+        let mut c = self.cache.lock().expect("shape cache");
+        c.get(&self.bridge, nb, w, x, f)
+    }
+
     /// Generalised forces `Σ Ψ(x_w)ᵀ f_w`.
     fn modal_force(&mut self, inputs: &[WheelInput]) -> Vec<f64> {
         let mut fq = vec![0.0; self.omega.len()];
-        for wi in inputs {
-            if self.bridge.rail_shapes(wi.x, &mut self.scratch) {
-                for (o, p) in fq.iter_mut().zip(&self.scratch) {
-                    *o += p[0] * wi.f[0] + p[1] * wi.f[1] + p[2] * wi.f[2];
+        for (w, wi) in inputs.iter().enumerate() {
+            self.with_shapes(w, wi.x, |on, psi| {
+                if on {
+                    for (o, p) in fq.iter_mut().zip(psi) {
+                        *o += p[0] * wi.f[0] + p[1] * wi.f[1] + p[2] * wi.f[2];
+                    }
                 }
-            }
+            });
         }
         fq
     }
@@ -124,19 +137,22 @@ impl BridgeSide {
         }
     }
 
-    /// Rail motion (u, u̇, ü) at `x` for a wheelset moving at `vx`: deck plus irregularity.
-    pub fn rail(&mut self, x: f64, vx: f64) -> [Vector3<f64>; 3] {
+    /// Rail motion (u, u̇, ü) under wheelset slot `w` at `x`, moving at `vx`: deck plus
+    /// irregularity.
+    pub fn rail(&mut self, w: usize, x: f64, vx: f64) -> [Vector3<f64>; 3] {
         let mut r = rail_motion(&self.track.at(x), vx);
-        if self.bridge.rail_shapes(x, &mut self.scratch) {
-            let s = &self.state;
-            for (n, p) in self.scratch.iter().enumerate() {
-                for k in 0..3 {
-                    r[0][k] += p[k] * s.q[n];
-                    r[1][k] += p[k] * s.qd[n];
-                    r[2][k] += p[k] * s.qdd[n];
+        let s = &self.state;
+        self.with_shapes(w, x, |on, psi| {
+            if on {
+                for (n, p) in psi.iter().enumerate() {
+                    for k in 0..3 {
+                        r[0][k] += p[k] * s.q[n];
+                        r[1][k] += p[k] * s.qd[n];
+                        r[2][k] += p[k] * s.qdd[n];
+                    }
                 }
             }
-        }
+        });
         r
     }
 
@@ -283,5 +299,46 @@ impl TrainSide {
         self.train.vehicles[ws.vehicle]
             .model
             .wheel_force(ws.local, &s.v, &s.vd, &u, &ud, &udd)
+    }
+}
+
+/// Rail shapes at the last two positions of each wheelset slot (the positions at the start
+/// and at the end of the current step are what an iterating master asks for).
+#[derive(Debug, Default)]
+struct ShapeCache {
+    /// Per slot: two entries (x bits, on deck, offset into `psi`).
+    keys: Vec<[(u64, bool); 2]>,
+    psi: Vec<[f64; 3]>,
+    next: Vec<usize>,
+}
+
+impl ShapeCache {
+    fn get<R>(
+        &mut self,
+        bridge: &ModalBridge,
+        nb: usize,
+        w: usize,
+        x: f64,
+        f: impl FnOnce(bool, &[[f64; 3]]) -> R,
+    ) -> R {
+        if self.keys.len() <= w {
+            self.keys.resize(w + 1, [(f64::NAN.to_bits(), false); 2]);
+            self.next.resize(w + 1, 0);
+            self.psi.resize(2 * (w + 1) * nb, [0.0; 3]);
+        }
+        let bits = x.to_bits();
+        let slot = match self.keys[w].iter().position(|k| k.0 == bits) {
+            Some(s) => s,
+            None => {
+                let s = self.next[w];
+                self.next[w] = 1 - s;
+                let range = (2 * w + s) * nb..(2 * w + s + 1) * nb;
+                let on = bridge.rail_shapes(x, &mut self.psi[range]);
+                self.keys[w][s] = (bits, on);
+                s
+            }
+        };
+        let range = (2 * w + slot) * nb..(2 * w + slot + 1) * nb;
+        f(self.keys[w][slot].1, &self.psi[range])
     }
 }

@@ -121,8 +121,11 @@ impl LinearVehicle {
     ) -> Vector3<f64> {
         let ws = &self.wheelsets[w];
         let mut f = ws.p0 - ws.m_w * udd - ws.k_ww * u - ws.c_ww * ud;
-        if self.ndof() > 0 {
-            f -= ws.k_vw.tr_mul(v) + ws.c_vw.tr_mul(vd);
+        // f -= K_wv v + C_wv v̇ (columns of K_vw, C_vw), without temporaries
+        for k in 0..3 {
+            let kc = ws.k_vw.column(k);
+            let cc = ws.c_vw.column(k);
+            f[k] -= kc.dot(v) + cc.dot(vd);
         }
         f
     }
