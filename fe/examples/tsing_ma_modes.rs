@@ -1,25 +1,15 @@
-//! Build the Tsing Ma model, print its lowest modes and the static deflection under the
-//! paper's 8-coach train; optionally write the deck modes to a file.
+//! Build the Tsing Ma model, print its lowest modes, the lowest 20 modes with deck
+//! participation and the static deflection under the project's 8-coach train (paper,
+//! Table 1, crush masses); optionally write the deck modes to a file.
 //!
 //! `cargo run -p tbi-fe --release --example tsing_ma_modes -- [n_modes] [out.csv|out.json]`
 
 use std::time::Instant;
+use tbi_dynamics::vehicle::coach::CoachParams;
 use tbi_fe::{tsing_ma, DeckLoad, FeModel};
 
-/// Axle offsets behind the train front of the paper's 8 identical coaches, m.
-fn axle_offsets() -> Vec<f64> {
-    let (coach, bogie_half, axle_half) = (22.5, 7.8, 1.25);
-    (0..8)
-        .flat_map(|c| {
-            let centre = c as f64 * coach + 0.5 * coach;
-            [-bogie_half, bogie_half].into_iter().flat_map(move |b| {
-                [-axle_half, axle_half]
-                    .into_iter()
-                    .map(move |a| centre + b + a)
-            })
-        })
-        .collect()
-}
+/// Deck modes the paper's case uses.
+const DECK_MODES: usize = 20;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -30,15 +20,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let t1 = Instant::now();
     let modal = model.modes(n)?;
     let t2 = Instant::now();
+    let deck = model.deck_modes(DECK_MODES)?;
+    let t3 = Instant::now();
     println!(
-        "{} free DOFs; build {:.2} s, {} modes {:.2} s",
+        "{} free DOFs; build {:.2} s, {} modes {:.2} s, {} deck modes {:.2} s",
         model.system().dof_count(),
         (t1 - t0).as_secs_f64(),
         n,
-        (t2 - t1).as_secs_f64()
+        (t2 - t1).as_secs_f64(),
+        DECK_MODES,
+        (t3 - t2).as_secs_f64()
     );
     let dl = model.dead_load();
-    println!("H = {:.4e} N per cable", dl.horizontal_tension);
+    let t_max = dl.segment_tension.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "H = {:.4e} N per cable, largest cable tension {:.4e} N",
+        dl.horizontal_tension, t_max
+    );
     println!(" #  f (Hz)   label    deck_lat deck_ver deck_tor cables other");
     for (i, m) in modal.modes.iter().enumerate() {
         let e = m.energy;
@@ -54,20 +52,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             e.other
         );
     }
+    println!("lowest {DECK_MODES} deck modes:");
+    for (i, m) in deck.modes.iter().enumerate() {
+        println!("{:2} {:.4}  {}", i + 1, m.frequency_hz, m.label);
+    }
+
+    // The train: 8 identical coaches, `length_m` apart, static wheelset loads from Table 1.
+    let coach = CoachParams::xia2000();
+    let vehicle = coach.build()?;
+    let axles: Vec<(f64, f64)> = (0..8)
+        .flat_map(|c| {
+            let start = c as f64 * coach.length_m;
+            vehicle
+                .wheelsets
+                .iter()
+                .map(move |w| (start + w.offset_m, w.p0.z))
+        })
+        .collect();
+    println!(
+        "train: {} axles, axle load {:.1} N",
+        axles.len(),
+        vehicle.wheelsets[0].p0.z
+    );
     let solver = model.static_solver()?;
-    let axle_load = 13_250.0 * 9.81;
-    let offsets = axle_offsets();
     for &xp in &[1012.5, 1138.0, 1174.0, 1498.5] {
         let mut best = (0.0f64, 0.0, 0.0);
         let mut front = xp - 20.0;
         while front <= xp + 200.0 {
-            let loads: Vec<DeckLoad> = offsets
+            let loads: Vec<DeckLoad> = axles
                 .iter()
-                .map(|&o| DeckLoad {
-                    x: front - o,
+                .map(|&(offset, load)| DeckLoad {
+                    x: front - offset,
                     lateral: 0.0,
-                    vertical: axle_load,
-                    torque: params.track_eccentricity * axle_load,
+                    vertical: load,
+                    torque: params.track_eccentricity * load,
                 })
                 .collect();
             let d = solver.deck_deflection(&loads, &[xp])?[0];
@@ -86,7 +104,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     if let Some(path) = args.get(2) {
-        modal.to_mode_set().write(std::path::Path::new(path))?;
+        deck.write(std::path::Path::new(path))?;
         println!("wrote {path}");
     }
     Ok(())

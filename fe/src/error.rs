@@ -27,6 +27,16 @@ pub enum FeError {
         "{requested} modes requested but the model has only {available} free degrees of freedom"
     )]
     TooManyModes { requested: usize, available: usize },
+    /// Fewer modes with deck participation (labels other than `C-k`) than requested among
+    /// the modes that were computed.
+    #[error(
+        "{requested} deck modes requested but only {found} of the lowest {computed} modes have deck participation"
+    )]
+    TooFewDeckModes {
+        requested: usize,
+        found: usize,
+        computed: usize,
+    },
     /// A static load or output position lies outside the deck.
     #[error("deck position x = {x} m lies outside the deck [{start}, {end}] m")]
     OutsideDeck { x: f64, start: f64, end: f64 },

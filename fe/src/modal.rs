@@ -88,14 +88,37 @@ impl ModalResult {
         self.modes.iter().find(|m| m.label == label)
     }
 
-    /// The deck modes as a [`ModeSet`] (damping left to the scenario).
+    /// All modes (cable/tower modes `C-k` included) with their deck components as a
+    /// [`ModeSet`] (damping left to the scenario).
     pub fn to_mode_set(&self) -> ModeSet {
+        self.mode_set(self.modes.iter())
+    }
+
+    /// The first `n` modes with deck participation, i.e. all modes except the cable/tower
+    /// modes `C-k` ([`ModeKind::CableOrTower`]), in ascending frequency, as a [`ModeSet`]
+    /// (labels and mass-normalised deck components as in [`ModalResult::modes`], damping
+    /// left to the scenario).
+    ///
+    /// Fails with [`FeError::TooFewDeckModes`] if this result holds fewer than `n` of them;
+    /// [`FeModel::deck_modes`] computes as many modes as needed.
+    pub fn to_deck_mode_set(&self, n: usize) -> Result<ModeSet, FeError> {
+        let deck = || self.modes.iter().filter(|m| m.is_deck_mode());
+        let found = deck().count();
+        if found < n {
+            return Err(FeError::TooFewDeckModes {
+                requested: n,
+                found,
+                computed: self.modes.len(),
+            });
+        }
+        Ok(self.mode_set(deck().take(n)))
+    }
+
+    fn mode_set<'a>(&self, modes: impl Iterator<Item = &'a ModeInfo>) -> ModeSet {
         ModeSet {
             format: tbi_dynamics::bridge::modes_file::FORMAT_TAG.to_string(),
             x_m: self.deck_x.clone(),
-            modes: self
-                .modes
-                .iter()
+            modes: modes
                 .map(|m| Mode {
                     label: m.label.clone(),
                     frequency_hz: m.frequency_hz,
@@ -106,6 +129,14 @@ impl ModalResult {
                 })
                 .collect(),
         }
+    }
+}
+
+impl ModeInfo {
+    /// Whether the deck takes part in the mode: every kind except
+    /// [`ModeKind::CableOrTower`] (deck kinetic-energy share ≥ [`DECK_SHARE_MIN`]).
+    pub fn is_deck_mode(&self) -> bool {
+        self.kind != ModeKind::CableOrTower
     }
 }
 
@@ -127,6 +158,33 @@ impl FeModel {
     pub fn modes(&self, n: usize) -> Result<ModalResult, FeError> {
         let pairs = self.system.eigen(n)?;
         Ok(self.modal_result(&pairs))
+    }
+
+    /// The lowest `n` modes with deck participation (the cable/tower modes `C-k` skipped),
+    /// mass-normalised and labelled, as a [`ModeSet`] for the dynamics crate; see
+    /// [`ModalResult::to_deck_mode_set`].
+    ///
+    /// Solves for the lowest `2n + 20` modes (at most all free DOFs) and, while these hold
+    /// fewer than `n` deck modes, for twice as many (each attempt is a new eigen-solution).
+    /// Fails with [`FeError::TooManyModes`] if `n` exceeds the free DOFs and with
+    /// [`FeError::TooFewDeckModes`] if even all modes do not contain `n` deck modes.
+    pub fn deck_modes(&self, n: usize) -> Result<ModeSet, FeError> {
+        let available = self.system.dof_count();
+        if n > available {
+            return Err(FeError::TooManyModes {
+                requested: n,
+                available,
+            });
+        }
+        let mut computed = (2 * n + 20).min(available);
+        loop {
+            match self.modes(computed)?.to_deck_mode_set(n) {
+                Err(FeError::TooFewDeckModes { .. }) if computed < available => {
+                    computed = (2 * computed).min(available);
+                }
+                result => return result,
+            }
+        }
     }
 
     /// Classify eigenpairs and extract their deck components.
