@@ -33,11 +33,11 @@ pub fn preset_modes(name: &str, modes: usize) -> Result<ModeSet, String> {
     }
     let params = preset_params(name)?;
     let fe = FeModel::build(&params).map_err(|e| format!("building the {name} model: {e}"))?;
-    // The lowest `modes` modes of the whole structure, as the paper's "first 20 modes up to
-    // 0.38 Hz"; cable- and tower-only modes (labels `C-k`) have no deck motion and simply
-    // stay uncoupled.
-    let result = fe.modes(modes).map_err(|e| format!("modal analysis of the {name} model: {e}"))?;
-    let set = result.to_mode_set();
+    // The lowest `modes` modes with deck motion: cable- and tower-only modes (labels `C-k`)
+    // carry none and would not couple to the train. (The structure's 20 lowest modes,
+    // cable modes included, end at 0.38 Hz as the paper's do, but keep only 13 deck modes,
+    // which underestimates the static deflection by 6 %; 20 deck modes reach 0.63 Hz.)
+    let set = fe.deck_modes(modes).map_err(|e| format!("modal analysis of the {name} model: {e}"))?;
     guard.insert(key, set.clone());
     Ok(set)
 }
