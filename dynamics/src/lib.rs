@@ -12,6 +12,9 @@
 //! right, z vertical downward; rotations right-handed about x (roll, right side down), y
 //! (pitch, nose up) and z (yaw, nose right). SI units throughout.
 
+// Index loops mirror the equations (q_n, ω_n, rows k of Ψ) and are kept on purpose.
+#![allow(clippy::needless_range_loop)]
+
 pub mod bridge;
 pub mod error;
 pub mod interface;

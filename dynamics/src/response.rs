@@ -11,6 +11,7 @@
 //!     the lateral force pushes toward;
 //!   - offload factor, wheelset form: ΔP/P̄ = (P0 − P)/P0 with P0 the static wheelset load;
 //!     per-wheel form: (P0/2 − P_wheel)/(P0/2), the larger of the two wheels.
+//!
 //!   Maxima in `summary.json` are maxima of absolute values over all wheelsets and times.
 //! * Sperling ride index W per vehicle and direction, from the spectrum of the car-body
 //!   acceleration: `W = (Σ Wᵢ¹⁰)^0.1`, `Wᵢ = 0.896 (aᵢ³ F(fᵢ)/fᵢ)^0.1`, aᵢ the amplitude of

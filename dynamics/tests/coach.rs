@@ -1,6 +1,7 @@
 //! The 27-DOF coach: matrices against an independent hand derivation (the paper's
 //! Appendix A with its typos corrected), symmetry, static wheel loads, and natural
 //! frequencies by an independent eigenvalue method (bisection with Sylvester's inertia).
+#![allow(clippy::needless_range_loop)]
 use nalgebra::{DMatrix, Vector3};
 use tbi_dynamics::vehicle::coach::CoachParams;
 use tbi_dynamics::vehicle::{WheelLoads, GRAVITY};

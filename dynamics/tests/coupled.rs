@@ -1,5 +1,6 @@
 //! The coupled bridge–train system: the structured (Schur) solver against a dense solve of
 //! the explicitly assembled eq. (14); conservation of energy; symmetry of the response.
+#![allow(clippy::needless_range_loop)]
 mod common;
 use common::*;
 use nalgebra::DVector;

@@ -1,6 +1,7 @@
 //! Moving sprung mass on a simply supported beam (Yang & Yau 1997 / Biggs; domain §2) against
 //! an independent classical Runge–Kutta integration of the same modal equations written
 //! here from scratch: unnormalised sine modes, absolute vehicle coordinate, massless wheel.
+#![allow(clippy::needless_range_loop)]
 mod common;
 use common::*;
 use std::f64::consts::PI;

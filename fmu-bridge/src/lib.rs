@@ -6,6 +6,9 @@
 //! [`tbi_dynamics::interface`]. Each `fmi2DoStep(t, h)` is one Newmark step of size `h` with
 //! the wheelset positions, speeds and forces at `t + h`.
 
+// Index loops mirror the equations (q_n, ω_n, rows k of Ψ) and are kept on purpose.
+#![allow(clippy::needless_range_loop)]
+
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;

@@ -175,7 +175,7 @@ pub fn run_cosim<W: std::io::Write>(
         .flat_map(|i| [0, 1].map(|k| train_vr::vehicle_output(nw, i, k)))
         .collect();
     let layout = rec.layout.clone();
-    let mut sample_at = |sys: &mut System, t: f64| -> Result<Sample, CouplingError> {
+    let sample_at = |sys: &mut System, t: f64| -> Result<Sample, CouplingError> {
         let mut pv = vec![0.0; probe_vrs.len()];
         let mut fv = vec![0.0; force_vrs.len()];
         let mut vv = vec![0.0; veh_vrs.len()];

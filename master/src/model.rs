@@ -100,7 +100,7 @@ fn modal_from_set(
             &s.origin,
             "bridge.modes",
             b.modes,
-            &format!("{source} has only {} modes", set.modes.len()),
+            format!("{source} has only {} modes", set.modes.len()),
         ));
     }
     Ok(set.to_modal(
@@ -122,7 +122,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
                 &s.origin,
                 format!("probe[{i}].x_m"),
                 p.x_m,
-                &format!(
+                format!(
                     "probe \"{}\" is off the bridge (the deck spans {} to {} m)",
                     p.name, bridge.x_start_m, bridge.x_end_m
                 ),
@@ -150,7 +150,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
                 &s.origin,
                 "track.irregularity",
                 format!("{:?}", s.track.irregularity),
-                &e.to_string(),
+                e.to_string(),
             )
         })?;
     Ok(Model {

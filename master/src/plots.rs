@@ -122,11 +122,10 @@ where
     Ok(())
 }
 
-fn figure(
-    path: &Path,
-    panels: &[(&str, &str, Vec<(String, Vec<f64>)>)],
-    t: &[f64],
-) -> Result<(), String> {
+/// A panel: title, y-axis label and named series.
+type Panel<'a> = (&'a str, &'a str, Vec<(String, Vec<f64>)>);
+
+fn figure(path: &Path, panels: &[Panel<'_>], t: &[f64]) -> Result<(), String> {
     let height = 320 * panels.len() as u32;
     let root = SVGBackend::new(path, (1000, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| e.to_string())?;

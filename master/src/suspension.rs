@@ -37,7 +37,9 @@ pub fn preset_modes(name: &str, modes: usize) -> Result<ModeSet, String> {
     // carry none and would not couple to the train. (The structure's 20 lowest modes,
     // cable modes included, end at 0.38 Hz as the paper's do, but keep only 13 deck modes,
     // which underestimates the static deflection by 6 %; 20 deck modes reach 0.63 Hz.)
-    let set = fe.deck_modes(modes).map_err(|e| format!("modal analysis of the {name} model: {e}"))?;
+    let set = fe
+        .deck_modes(modes)
+        .map_err(|e| format!("modal analysis of the {name} model: {e}"))?;
     guard.insert(key, set.clone());
     Ok(set)
 }

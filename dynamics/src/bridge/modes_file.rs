@@ -74,7 +74,10 @@ impl ModeSet {
             ));
         }
         for (i, w) in self.x_m.windows(2).enumerate() {
-            if !(w[1] > w[0]) || !w[0].is_finite() || !w[1].is_finite() {
+            if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)
+                || !w[0].is_finite()
+                || !w[1].is_finite()
+            {
                 return Err(InputError::file(
                     origin,
                     format!(
@@ -284,7 +287,7 @@ impl ModeSet {
             }
             if modes.len() == 1 {
                 if let Some(&last) = x_m.last() {
-                    if !(x > last) {
+                    if x.partial_cmp(&last) != Some(std::cmp::Ordering::Greater) {
                         return Err(InputError::line(
                             path,
                             line_no,
