@@ -123,7 +123,11 @@ pub fn main(args: ModesArgs) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Plot the deck components of the first `n` modes (normalised to unit peak).
+/// Lever arm that turns torsion into a comparable edge displacement in the plots, m.
+const TORSION_ARM_M: f64 = 18.0;
+
+/// Plot the deck components of the first `n` modes: lateral and vertical displacement and
+/// torsion times an 18 m arm, all scaled by one factor per mode (largest component = 1).
 pub fn plot_shapes(path: &Path, set: &ModeSet, n: usize) -> Result<(), String> {
     let n = n.min(set.modes.len());
     let root = SVGBackend::new(path, (1000, 220 * n as u32)).into_drawing_area();
@@ -132,6 +136,9 @@ pub fn plot_shapes(path: &Path, set: &ModeSet, n: usize) -> Result<(), String> {
     let x1 = *set.x_m.last().unwrap_or(&1.0);
     for (area, m) in root.split_evenly((n, 1)).iter().zip(&set.modes) {
         let peak = |v: &[f64]| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let scale = peak(&m.lateral)
+            .max(peak(&m.vertical))
+            .max(TORSION_ARM_M * peak(&m.torsion));
         let mut chart = ChartBuilder::on(area)
             .caption(
                 format!("{} — {:.4} Hz", m.label, m.frequency_hz),
@@ -147,18 +154,25 @@ pub fn plot_shapes(path: &Path, set: &ModeSet, n: usize) -> Result<(), String> {
             .x_desc("x (m)")
             .draw()
             .map_err(|e| e.to_string())?;
-        for (vals, name, color) in [
-            (&m.vertical, "vertical", RGBColor(31, 119, 180)),
-            (&m.lateral, "lateral", RGBColor(214, 39, 40)),
-            (&m.torsion, "torsion", RGBColor(44, 160, 44)),
+        if scale == 0.0 {
+            continue;
+        }
+        for (vals, factor, name, color) in [
+            (&m.vertical, 1.0, "vertical", RGBColor(31, 119, 180)),
+            (&m.lateral, 1.0, "lateral", RGBColor(214, 39, 40)),
+            (
+                &m.torsion,
+                TORSION_ARM_M,
+                "torsion × 18 m",
+                RGBColor(44, 160, 44),
+            ),
         ] {
-            let p = peak(vals);
-            if p == 0.0 {
-                continue;
-            }
             chart
                 .draw_series(LineSeries::new(
-                    set.x_m.iter().zip(vals.iter()).map(|(x, v)| (*x, v / p)),
+                    set.x_m
+                        .iter()
+                        .zip(vals.iter())
+                        .map(|(x, v)| (*x, factor * v / scale)),
                     color,
                 ))
                 .map_err(|e| e.to_string())?

@@ -97,7 +97,13 @@ where
         .configure_mesh()
         .x_desc("time (s)")
         .y_desc(ylabel)
-        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .y_label_formatter(&|v| {
+            if v.abs() < 1e-12 * (hi - lo).abs().max(f64::MIN_POSITIVE) {
+                "0".to_string()
+            } else {
+                format!("{v:.3e}")
+            }
+        })
         .draw()
         .map_err(|e| e.to_string())?;
     for (k, (name, s)) in series.iter().enumerate() {
