@@ -172,8 +172,8 @@ fn table(case: &str, outcomes: &[Outcome]) -> String {
                 "  {:<46} {:>10.3} {:>8} {:>7} {:>10.2e} ({col})\n",
                 o.label,
                 o.mean(),
-                o.coupling["iterations_max"],
-                o.coupling["steps"],
+                o.coupling["iterations_max"].as_u64().unwrap_or_default(),
+                o.coupling["steps"].as_u64().unwrap_or_default(),
                 e
             ));
         } else {
