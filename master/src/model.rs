@@ -62,7 +62,14 @@ pub fn build_bridge(s: &Scenario) -> Result<ModalBridge, InputError> {
         "modal_file" => {
             let rel = b.path.as_ref().expect("validated: path is set");
             let path = s.base_dir.join(rel);
-            let set = ModeSet::read(&path)?;
+            let set = ModeSet::read(&path).map_err(|e| {
+                InputError::field(
+                    &s.origin,
+                    "bridge.path",
+                    format!("\"{}\"", rel.display()),
+                    e.to_string(),
+                )
+            })?;
             modal_from_set(s, &set, &path.display().to_string(), 0.0, 0.0)
         }
         "suspension" => {
@@ -149,7 +156,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             InputError::field(
                 &s.origin,
                 "track.irregularity",
-                format!("{:?}", s.track.irregularity),
+                track_spec_text(&s.track.irregularity),
                 e.to_string(),
             )
         })?;
@@ -165,4 +172,16 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
         hunting: hunting_params,
         axles,
     })
+}
+
+/// The irregularity spec as a user wrote it (for messages).
+fn track_spec_text(spec: &tbi_track::IrregularitySpec) -> String {
+    match spec {
+        tbi_track::IrregularitySpec::None => "\"none\"".into(),
+        tbi_track::IrregularitySpec::Record(r) => format!("{{ file = \"{}\" }}", r.file.display()),
+        tbi_track::IrregularitySpec::Generated(g) => format!(
+            "{{ spectrum = \"{}\", seed = {}, lambda_min_m = {}, lambda_max_m = {} }}",
+            g.spectrum, g.seed, g.lambda_min_m, g.lambda_max_m
+        ),
+    }
 }
