@@ -205,11 +205,18 @@ impl Monolithic {
     fn finish_outputs(&mut self) {
         for w in 0..self.wheelsets.len() {
             let ws = self.wheelsets[w];
-            let psi = self.psi_w(w);
             let p = self.presc[w];
-            let u = psi_mul(psi, self.q.as_slice()) + p[0];
-            let ud = psi_mul(psi, self.qd.as_slice()) + p[1];
-            let udd = psi_mul(psi, self.qdd.as_slice()) + p[2];
+            let [u, ud, udd] = if self.on[w] {
+                let [a, b, c] = psi_mul3(
+                    self.psi_w(w),
+                    self.q.as_slice(),
+                    self.qd.as_slice(),
+                    self.qdd.as_slice(),
+                );
+                [a + p[0], b + p[1], c + p[2]]
+            } else {
+                p
+            };
             self.rail[w] = [u, ud, udd];
             let vs = &self.vehicles[ws.vehicle];
             self.forces[w] = self.train.vehicles[ws.vehicle]
@@ -266,8 +273,10 @@ impl Monolithic {
                 }
                 if on {
                     let mut g = c.p0 - c.m_w * (rdd - pm) - c.k_ww * r - c.c_ww * (rd - pv);
-                    if n > 0 {
-                        g += c.c_vw.tr_mul(vc);
+                    for k in 0..3 {
+                        if n > 0 {
+                            g[k] += c.c_vw.column(k).dot(vc);
+                        }
                     }
                     psi_tr_add(psi, &g, w.bq.as_mut_slice());
                 }
@@ -375,7 +384,11 @@ impl Monolithic {
         let nb = w.bq.len();
         let b = w.bq.as_slice();
         let bnorm = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let mut x: Vec<f64> = (0..nb).map(|n| b[n] / w.dhat[n]).collect();
+        // Start from the Jacobi estimate plus the coupling correction of the previous step,
+        // which changes slowly from step to step.
+        let mut x: Vec<f64> = (0..nb)
+            .map(|n| b[n] / w.dhat[n] + w.correction[n])
+            .collect();
         if bnorm == 0.0 {
             return Some(DVector::from_vec(x));
         }
@@ -398,6 +411,9 @@ impl Monolithic {
             let rmax = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             if rmax <= CG_TOLERANCE * bnorm {
                 self.cg_iterations.set(self.cg_iterations.get() + it);
+                for n in 0..nb {
+                    w.correction[n] = x[n] - b[n] / w.dhat[n];
+                }
                 return Some(DVector::from_vec(x));
             }
             self.apply_reduced(w, &p, &mut ap, &mut ux, &mut sx);
@@ -469,6 +485,20 @@ fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     u
 }
 
+/// `Ψ a`, `Ψ b`, `Ψ c` in one pass over Ψ.
+fn psi_mul3(psi: &[[f64; 3]], a: &[f64], b: &[f64], c: &[f64]) -> [Vector3<f64>; 3] {
+    let mut r = [Vector3::zeros(); 3];
+    for (n, p) in psi.iter().enumerate() {
+        let (an, bn, cn) = (a[n], b[n], c[n]);
+        for k in 0..3 {
+            r[0][k] += p[k] * an;
+            r[1][k] += p[k] * bn;
+            r[2][k] += p[k] * cn;
+        }
+    }
+    r
+}
+
 fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut [f64]) {
     for (o, p) in out.iter_mut().zip(psi) {
         *o += p[0] * f.x + p[1] * f.y + p[2] * f.z;
@@ -482,6 +512,8 @@ struct Work {
     qc: DVector<f64>,
     dhat: DVector<f64>,
     bq: DVector<f64>,
+    /// `q_{n+1} − D̂⁻¹ b` of the last iterative solve (the initial guess of the next).
+    correction: Vec<f64>,
     vm: Vec<DVector<f64>>,
     vc: Vec<DVector<f64>>,
     bv: Vec<DVector<f64>>,
@@ -502,6 +534,7 @@ impl Work {
             qc: DVector::zeros(nb),
             dhat: DVector::zeros(nb),
             bq: DVector::zeros(nb),
+            correction: vec![0.0; nb],
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),

@@ -121,11 +121,16 @@ impl LinearVehicle {
     ) -> Vector3<f64> {
         let ws = &self.wheelsets[w];
         let mut f = ws.p0 - ws.m_w * udd - ws.k_ww * u - ws.c_ww * ud;
-        // f -= K_wv v + C_wv v̇ (columns of K_vw, C_vw), without temporaries
+        // f -= K_wv v + C_wv v̇ (columns of K_vw, C_vw are contiguous), without temporaries
+        let n = v.len();
+        let (kv, cv) = (ws.k_vw.as_slice(), ws.c_vw.as_slice());
+        let (v, vd) = (v.as_slice(), vd.as_slice());
         for k in 0..3 {
-            let kc = ws.k_vw.column(k);
-            let cc = ws.c_vw.column(k);
-            f[k] -= kc.dot(v) + cc.dot(vd);
+            let mut acc = 0.0;
+            for i in 0..n {
+                acc += kv[k * n + i] * v[i] + cv[k * n + i] * vd[i];
+            }
+            f[k] -= acc;
         }
         f
     }
