@@ -59,8 +59,10 @@ name = "mid"
 x_m = 1000.0
 [coupling]
 scheme = "implicit"
-acceleration = "constant"
+acceleration = "iqn-ils"
 relaxation = 1.0
+reuse_steps = 2
+atol = 1e-8
 "#;
 
 fn timed(s: &Scenario, out: &Path) -> Result<(f64, serde_json::Value), Box<dyn std::error::Error>> {
