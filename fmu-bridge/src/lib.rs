@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
 use tbi_dynamics::interface::{
-    bridge_vr, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
+    BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
 use tbi_dynamics::track::{RailProfile, Smooth};
@@ -208,18 +208,14 @@ impl FmuModel for BridgeFmu {
 }
 
 impl BridgeFmu {
+    /// Name of input value reference `vr` (< 5 × wheelsets).
     fn name(&self, vr: u32) -> String {
-        let nw = self.res.n_wheelsets;
-        if (vr as usize) < 5 * nw {
-            let (w, k) = (vr as usize / 5, vr as usize % 5);
-            return format!(
-                "ws[{}].{}",
-                w + 1,
-                tbi_dynamics::interface::WHEEL_CHANNELS[k].0
-            );
-        }
-        let _ = bridge_vr::probe_output;
-        format!("vr {vr}")
+        let (w, k) = (vr as usize / 5, vr as usize % 5);
+        format!(
+            "ws[{}].{}",
+            w + 1,
+            tbi_dynamics::interface::WHEEL_CHANNELS[k].0
+        )
     }
 }
 

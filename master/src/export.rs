@@ -193,14 +193,7 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         &libs.join("libbridge.so"),
     ) {
         let what = "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
-        let xml = description_xml(
-            BRIDGE_ID,
-            &bridge_guid,
-            what,
-            &bridge_res.variables(),
-            stop,
-            model.dt,
-        )?;
+        let xml = description_xml(BRIDGE_ID, &bridge_guid, what, &bridge_res.variables(), stop)?;
         let doc = DOC.replace("{TITLE}", "bridge").replace("{WHAT}", what);
         write_fmu(
             &bridge_path,
@@ -219,14 +212,7 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         &libs.join("libtrain.so"),
     ) {
         let what = "Train of linear vehicles (moving forces, sprung masses or 27-DOF coaches): rail motion in, wheel forces out";
-        let xml = description_xml(
-            TRAIN_ID,
-            &train_guid,
-            what,
-            &train_res.variables(),
-            stop,
-            model.dt,
-        )?;
+        let xml = description_xml(TRAIN_ID, &train_guid, what, &train_res.variables(), stop)?;
         let doc = DOC.replace("{TITLE}", "train").replace("{WHAT}", what);
         write_fmu(
             &train_path,
@@ -247,7 +233,6 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
             &bridge_res,
             &train_res,
             stop,
-            model.dt,
         )?;
     }
     Ok(Exported {
@@ -333,7 +318,6 @@ fn write_ssp(
     b: &BridgeResources,
     t: &TrainResources,
     stop: f64,
-    step: f64,
 ) -> Result<(), String> {
     let connectors = |vars: Vec<Var>| -> String {
         vars.iter()
@@ -376,7 +360,6 @@ fn write_ssp(
         connectors(t.variables()),
         conns
     );
-    let _ = step;
     let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut z = zip::ZipWriter::new(file);
     let opts = zip::write::SimpleFileOptions::default()
