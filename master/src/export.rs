@@ -193,7 +193,14 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         &libs.join("libbridge.so"),
     ) {
         let what = "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
-        let xml = description_xml(BRIDGE_ID, &bridge_guid, what, &bridge_res.variables(), stop)?;
+        let xml = description_xml(
+            BRIDGE_ID,
+            &bridge_guid,
+            what,
+            &bridge_res.variables(),
+            stop,
+            model.dt,
+        )?;
         let doc = DOC.replace("{TITLE}", "bridge").replace("{WHAT}", what);
         write_fmu(
             &bridge_path,
@@ -212,7 +219,14 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         &libs.join("libtrain.so"),
     ) {
         let what = "Train of linear vehicles (moving forces, sprung masses or 27-DOF coaches): rail motion in, wheel forces out";
-        let xml = description_xml(TRAIN_ID, &train_guid, what, &train_res.variables(), stop)?;
+        let xml = description_xml(
+            TRAIN_ID,
+            &train_guid,
+            what,
+            &train_res.variables(),
+            stop,
+            model.dt,
+        )?;
         let doc = DOC.replace("{TITLE}", "train").replace("{WHAT}", what);
         write_fmu(
             &train_path,
