@@ -284,3 +284,39 @@ pub fn sperling(acc: &[f64], dt: f64, dir: Direction) -> f64 {
     }
     sum.powf(0.1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pure sine of amplitude a (m/s²) at f (Hz), sampled over whole periods, has one
+    /// spectral line: W = 0.896 (a_cm³ F(f) / f)^0.1 exactly.
+    #[test]
+    fn sperling_of_a_pure_sine_is_the_closed_form() {
+        for (f, a, dir) in [
+            (1.0, 0.3, Direction::Vertical),
+            (8.0, 0.5, Direction::Vertical),
+            (2.5, 0.2, Direction::Lateral),
+        ] {
+            let dt = 0.005;
+            let n = (20.0 / dt) as usize; // 20 s: an integer number of periods
+            let acc: Vec<f64> = (0..n)
+                .map(|k| a * (2.0 * std::f64::consts::PI * f * k as f64 * dt).sin())
+                .collect();
+            let w = sperling(&acc, dt, dir);
+            let expected = 0.896 * ((100.0 * a).powi(3) * sperling_weight(f, dir) / f).powf(0.1);
+            assert!(
+                (w - expected).abs() < 1e-9 * expected,
+                "f = {f}: {w} vs {expected}"
+            );
+        }
+    }
+
+    #[test]
+    fn sperling_weights_are_continuous_at_their_breaks() {
+        assert!((sperling_weight(5.9, Direction::Vertical) - 0.325 * 5.9 * 5.9).abs() < 1e-12);
+        assert!((0.325f64 * 5.9 * 5.9 - 400.0 / (5.9 * 5.9)).abs() < 0.05 * 11.3);
+        assert!((0.8f64 * 5.4 * 5.4 - 650.0 / (5.4 * 5.4)).abs() < 0.05 * 23.3);
+        assert_eq!(sperling_weight(30.0, Direction::Lateral), 1.0);
+    }
+}
