@@ -89,3 +89,22 @@ pub fn sdof_sine_exact(
     let e = (-zeta * omega * tau).exp();
     e * (x0 * (wd * tau).cos() + (v0 + zeta * omega * x0) / wd * (wd * tau).sin())
 }
+
+/// A deterministic, smooth irregularity with all three components.
+#[derive(Debug)]
+pub struct Waves;
+
+impl tbi_dynamics::track::RailProfile for Waves {
+    fn at(&self, x: f64) -> tbi_dynamics::track::RailIrregularity {
+        let c = |a: f64, l: f64, ph: f64| {
+            let k = 2.0 * std::f64::consts::PI / l;
+            let (s, co) = (k * x + ph).sin_cos();
+            [a * s, a * k * co, -a * k * k * s]
+        };
+        tbi_dynamics::track::RailIrregularity {
+            lateral: c(2e-3, 17.0, 0.3),
+            cross_level: c(1e-3, 23.0, 1.1),
+            vertical: c(3e-3, 11.0, 2.0),
+        }
+    }
+}

@@ -8,26 +8,8 @@ use std::sync::Arc;
 use tbi_dynamics::bridge::{ModalBridge, SimplySupported};
 use tbi_dynamics::solver::monolithic::dense_reference_step;
 use tbi_dynamics::solver::Monolithic;
-use tbi_dynamics::track::{RailIrregularity, RailProfile, Smooth};
+use tbi_dynamics::track::Smooth;
 use tbi_dynamics::vehicle::coach::CoachParams;
-
-/// A deterministic, smooth irregularity with all three components.
-#[derive(Debug)]
-struct Waves;
-impl RailProfile for Waves {
-    fn at(&self, x: f64) -> RailIrregularity {
-        let c = |a: f64, l: f64, ph: f64| {
-            let k = 2.0 * std::f64::consts::PI / l;
-            let (s, co) = (k * x + ph).sin_cos();
-            [a * s, a * k * co, -a * k * k * s]
-        };
-        RailIrregularity {
-            lateral: c(2e-3, 17.0, 0.3),
-            cross_level: c(1e-3, 23.0, 1.1),
-            vertical: c(3e-3, 11.0, 2.0),
-        }
-    }
-}
 
 fn bridge_3d(e: f64, h4: f64, damping: f64) -> ModalBridge {
     SimplySupported {
