@@ -408,8 +408,11 @@ impl Monolithic {
         let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
         let mut ap = vec![0.0; nb];
         for it in 0..MAX_CG_ITERATIONS {
-            let rmax = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if rmax <= CG_TOLERANCE * bnorm {
+            // Converged when every mode's residual is at round-off level relative to its own
+            // terms, so that small (e.g. lateral) modal coordinates are as exact as large ones.
+            let converged =
+                (0..nb).all(|n| r[n].abs() <= CG_TOLERANCE * (b[n].abs() + w.dhat[n] * x[n].abs()));
+            if converged {
                 self.cg_iterations.set(self.cg_iterations.get() + it);
                 for n in 0..nb {
                     w.correction[n] = x[n] - b[n] / w.dhat[n];
@@ -472,8 +475,9 @@ impl Monolithic {
 
 /// Iterations of the conjugate-gradient path before the direct solver takes over.
 const MAX_CG_ITERATIONS: usize = 12;
-/// Relative residual (max norm) at which the iteration counts as exact.
-const CG_TOLERANCE: f64 = 1e-15;
+/// Residual of each mode, relative to the size of its own terms, at which the iteration
+/// counts as exact.
+const CG_TOLERANCE: f64 = 1e-14;
 
 fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     let mut u = Vector3::zeros();
