@@ -361,6 +361,17 @@ impl Scenario {
             }
             Ok(())
         };
+        // Shared by the kinds that interpolate nodal shapes: the interpolation order, and no
+        // simply supported section data.
+        let modal_kinds = || -> Result<(), InputError> {
+            if let Some(p) = b.interpolation_points {
+                if !(2..=8).contains(&p) {
+                    return Err(self.err("bridge.interpolation_points", p, "must lie in 2..=8"));
+                }
+            }
+            let set: Vec<(&str, bool)> = ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
+            refuse(&set)
+        };
         match b.kind.as_str() {
             "simply_supported" => {
                 for name in [
@@ -414,18 +425,7 @@ impl Scenario {
                         "is required for kind \"modal_file\"",
                     ));
                 }
-                if let Some(p) = b.interpolation_points {
-                    if !(2..=8).contains(&p) {
-                        return Err(self.err(
-                            "bridge.interpolation_points",
-                            p,
-                            "must lie in 2..=8",
-                        ));
-                    }
-                }
-                let set: Vec<(&str, bool)> =
-                    ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
-                refuse(&set)?;
+                modal_kinds()?;
                 refuse(&[("preset", b.preset.is_some())])?;
             }
             "suspension" => {
@@ -446,18 +446,7 @@ impl Scenario {
                         ))
                     }
                 }
-                if let Some(p) = b.interpolation_points {
-                    if !(2..=8).contains(&p) {
-                        return Err(self.err(
-                            "bridge.interpolation_points",
-                            p,
-                            "must lie in 2..=8",
-                        ));
-                    }
-                }
-                let set: Vec<(&str, bool)> =
-                    ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
-                refuse(&set)?;
+                modal_kinds()?;
                 refuse(&[("path", b.path.is_some())])?;
             }
             other => {
