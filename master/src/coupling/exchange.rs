@@ -103,6 +103,26 @@ impl Exchange {
         Ok(ex)
     }
 
+    /// Compile the plan for `sys` and pass the current outputs to the inputs once (the
+    /// initial exchange of the explicit schemes).
+    pub fn initial(sys: &mut System) -> Result<Self, CouplingError> {
+        let mut ex = Exchange::new(sys)?;
+        ex.read_all(sys)?;
+        ex.write_all(sys)?;
+        Ok(ex)
+    }
+
+    /// The plan in `slot`, recompiled if `sys` changed shape since it was made.
+    pub fn current<'a>(
+        slot: &'a mut Option<Exchange>,
+        sys: &System,
+    ) -> Result<&'a mut Exchange, CouplingError> {
+        match slot {
+            Some(ex) if ex.matches(sys) => Ok(slot.as_mut().expect("matched Some")),
+            _ => Ok(slot.insert(Exchange::new(sys)?)),
+        }
+    }
+
     /// Whether `sys` still has the shape this plan was compiled for.
     pub fn matches(&self, sys: &System) -> bool {
         self.participants == sys.participants.len() && self.connections == sys.connections.len()

@@ -37,18 +37,12 @@ impl CouplingScheme for GaussSeidel {
     }
 
     fn initialize(&mut self, sys: &mut System) -> Result<(), CouplingError> {
-        let mut ex = Exchange::new(sys)?;
-        ex.read_all(sys)?;
-        ex.write_all(sys)?;
-        self.exchange = Some(ex);
+        self.exchange = Some(Exchange::initial(sys)?);
         Ok(())
     }
 
     fn step(&mut self, sys: &mut System, t: f64, h: f64) -> Result<StepReport, CouplingError> {
-        let ex = match &mut self.exchange {
-            Some(ex) if ex.matches(sys) => ex,
-            _ => self.exchange.insert(Exchange::new(sys)?),
-        };
+        let ex = Exchange::current(&mut self.exchange, sys)?;
         ex.read_all(sys)?;
         ex.feedback_values(&mut self.lagged);
         for p in 0..sys.participants.len() {
