@@ -239,17 +239,7 @@ impl ProbeShapes {
     pub fn values(&self, q: &[f64], qdd: &[f64]) -> Vec<ProbeValues> {
         self.0
             .iter()
-            .map(|sh| {
-                let mut p = ProbeValues::default();
-                for (n, s) in sh.iter().enumerate() {
-                    p.y += s[0] * q[n];
-                    p.z += s[1] * q[n];
-                    p.theta += s[2] * q[n];
-                    p.y_dd += s[0] * qdd[n];
-                    p.z_dd += s[1] * qdd[n];
-                }
-                p
-            })
+            .map(|sh| ProbeValues::from_shapes(sh, q, qdd))
             .collect()
     }
 }

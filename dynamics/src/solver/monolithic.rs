@@ -81,8 +81,6 @@ pub struct Monolithic {
     first_ws: Vec<usize>,
     on: Vec<bool>,
     work: Work,
-    iterative_steps: usize,
-    cg_iterations: std::cell::Cell<usize>,
 }
 
 impl Monolithic {
@@ -126,8 +124,6 @@ impl Monolithic {
             first_ws,
             on: vec![false; nw],
             work: Work::default(),
-            iterative_steps: 0,
-            cg_iterations: std::cell::Cell::new(0),
         };
         s.work = Work::new(nb, &s.train);
         s.update_geometry(0.0);
@@ -298,10 +294,7 @@ impl Monolithic {
             }
         }
         let q1 = match self.solve_iterative(&mut w) {
-            Some(q1) => {
-                self.iterative_steps += 1;
-                q1
-            }
+            Some(q1) => q1,
             None => self.solve_direct(&w),
         };
         // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1.
@@ -407,13 +400,12 @@ impl Monolithic {
         let mut p = z.clone();
         let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
         let mut ap = vec![0.0; nb];
-        for it in 0..MAX_CG_ITERATIONS {
+        for _ in 0..MAX_CG_ITERATIONS {
             // Converged when every mode's residual is at round-off level relative to its own
             // terms, so that small (e.g. lateral) modal coordinates are as exact as large ones.
             let converged =
                 (0..nb).all(|n| r[n].abs() <= CG_TOLERANCE * (b[n].abs() + w.dhat[n] * x[n].abs()));
             if converged {
-                self.cg_iterations.set(self.cg_iterations.get() + it);
                 for n in 0..nb {
                     w.correction[n] = x[n] - b[n] / w.dhat[n];
                 }
@@ -464,12 +456,6 @@ impl Monolithic {
         a.cholesky()
             .expect("reduced bridge matrix is positive definite")
             .solve(&w.bq)
-    }
-
-    /// Steps solved by the iterative path so far (the rest were solved directly) and the
-    /// conjugate-gradient iterations they took.
-    pub fn iterative_steps(&self) -> (usize, usize) {
-        (self.iterative_steps, self.cg_iterations.get())
     }
 }
 

@@ -49,6 +49,22 @@ pub struct ProbeValues {
     pub z_dd: f64,
 }
 
+impl ProbeValues {
+    /// Deck response from the deck shapes `(φ_h, φ_v, φ_θ)` at the probe and the modal
+    /// displacements and accelerations.
+    pub fn from_shapes(shapes: &[[f64; 3]], q: &[f64], qdd: &[f64]) -> Self {
+        let mut p = ProbeValues::default();
+        for (n, sh) in shapes.iter().enumerate() {
+            p.y += sh[0] * q[n];
+            p.z += sh[1] * q[n];
+            p.theta += sh[2] * q[n];
+            p.y_dd += sh[0] * qdd[n];
+            p.z_dd += sh[1] * qdd[n];
+        }
+        p
+    }
+}
+
 /// Dynamic state of the modal bridge.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct ModalState {
@@ -158,18 +174,8 @@ impl BridgeSide {
 
     /// Deck response at `x`.
     pub fn probe(&mut self, x: f64) -> ProbeValues {
-        let mut p = ProbeValues::default();
-        if self.bridge.deck_shapes(x, &mut self.scratch) {
-            let s = &self.state;
-            for (n, sh) in self.scratch.iter().enumerate() {
-                p.y += sh[0] * s.q[n];
-                p.z += sh[1] * s.q[n];
-                p.theta += sh[2] * s.q[n];
-                p.y_dd += sh[0] * s.qdd[n];
-                p.z_dd += sh[1] * s.qdd[n];
-            }
-        }
-        p
+        self.bridge.deck_shapes(x, &mut self.scratch);
+        ProbeValues::from_shapes(&self.scratch, &self.state.q, &self.state.qdd)
     }
 }
 
