@@ -120,8 +120,38 @@ pub struct BridgeResources {
     pub has_track_record: bool,
 }
 
+/// A bridge FMU variable, decoded from its value reference (0-based indices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BridgeVar {
+    /// `ws[w].<WHEEL_CHANNELS[k]>` (input).
+    Wheel { w: usize, k: usize },
+    /// `ws[w].<RAIL_CHANNELS[k]>` (output).
+    Rail { w: usize, k: usize },
+    /// `probe[p].<PROBE_CHANNELS[k]>` (output).
+    Probe { p: usize, k: usize },
+}
+
 /// Value references of the bridge FMU.
 pub mod bridge_vr {
+    use super::BridgeVar;
+
+    /// The variable behind `vr` for `nw` wheelsets and `np` probes (inverse of the functions
+    /// below).
+    pub fn decode(nw: usize, np: usize, vr: u32) -> Option<BridgeVar> {
+        let v = vr as usize;
+        if v < 5 * nw {
+            Some(BridgeVar::Wheel { w: v / 5, k: v % 5 })
+        } else if v < 14 * nw {
+            let o = v - 5 * nw;
+            Some(BridgeVar::Rail { w: o / 9, k: o % 9 })
+        } else if v < 14 * nw + 5 * np {
+            let o = v - 14 * nw;
+            Some(BridgeVar::Probe { p: o / 5, k: o % 5 })
+        } else {
+            None
+        }
+    }
+
     /// `ws[w].<WHEEL_CHANNELS[k]>` (0-based w, k).
     pub fn wheel_input(w: usize, k: usize) -> u32 {
         (5 * w + k) as u32
@@ -279,8 +309,43 @@ pub struct TrainResources {
     pub hunting: HuntingParams,
 }
 
+/// A train FMU variable, decoded from its value reference (0-based indices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TrainVar {
+    /// `ws[w].<RAIL_CHANNELS[k]>` (input).
+    Rail { w: usize, k: usize },
+    /// `ws[w].<WHEEL_CHANNELS or LOAD_CHANNELS[k]>` (output, k < 9).
+    Wheel { w: usize, k: usize },
+    /// `veh[i].a_y` (k = 0) or `veh[i].a_z` (k = 1) (output).
+    Vehicle { i: usize, k: usize },
+    /// The j-th entry of [`train_parameters`].
+    Parameter(usize),
+}
+
 /// Value references of the train FMU.
 pub mod train_vr {
+    use super::TrainVar;
+
+    /// The variable behind `vr` for `nw` wheelsets and `nv` vehicles (inverse of the functions
+    /// below; parameter indices are not range-checked here).
+    pub fn decode(nw: usize, nv: usize, vr: u32) -> Option<TrainVar> {
+        if vr >= PARAM_BASE {
+            return Some(TrainVar::Parameter((vr - PARAM_BASE) as usize));
+        }
+        let v = vr as usize;
+        if v < 9 * nw {
+            Some(TrainVar::Rail { w: v / 9, k: v % 9 })
+        } else if v < 18 * nw {
+            let o = v - 9 * nw;
+            Some(TrainVar::Wheel { w: o / 9, k: o % 9 })
+        } else if v < 18 * nw + 2 * nv {
+            let o = v - 18 * nw;
+            Some(TrainVar::Vehicle { i: o / 2, k: o % 2 })
+        } else {
+            None
+        }
+    }
+
     /// `ws[w].<RAIL_CHANNELS[k]>` inputs.
     pub fn rail_input(w: usize, k: usize) -> u32 {
         (9 * w + k) as u32
@@ -428,3 +493,57 @@ impl TrainResources {
 
 /// Build identifier that goes into the FMUs' GUIDs (with the bytes of their resources).
 pub const BUILD_ID: &str = concat!("tbi-", env!("CARGO_PKG_VERSION"));
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decode_inverts_the_layout() {
+        let (nw, np, nv) = (7, 3, 2);
+        for w in 0..nw {
+            for k in 0..5 {
+                assert_eq!(
+                    bridge_vr::decode(nw, np, bridge_vr::wheel_input(w, k)),
+                    Some(BridgeVar::Wheel { w, k })
+                );
+            }
+            for k in 0..9 {
+                assert_eq!(
+                    bridge_vr::decode(nw, np, bridge_vr::rail_output(nw, w, k)),
+                    Some(BridgeVar::Rail { w, k })
+                );
+                assert_eq!(
+                    train_vr::decode(nw, nv, train_vr::rail_input(w, k)),
+                    Some(TrainVar::Rail { w, k })
+                );
+                assert_eq!(
+                    train_vr::decode(nw, nv, train_vr::wheel_output(nw, w, k)),
+                    Some(TrainVar::Wheel { w, k })
+                );
+            }
+        }
+        for p in 0..np {
+            for k in 0..5 {
+                assert_eq!(
+                    bridge_vr::decode(nw, np, bridge_vr::probe_output(nw, p, k)),
+                    Some(BridgeVar::Probe { p, k })
+                );
+            }
+        }
+        for i in 0..nv {
+            for k in 0..2 {
+                assert_eq!(
+                    train_vr::decode(nw, nv, train_vr::vehicle_output(nw, i, k)),
+                    Some(TrainVar::Vehicle { i, k })
+                );
+            }
+        }
+        assert_eq!(bridge_vr::decode(nw, np, (14 * nw + 5 * np) as u32), None);
+        assert_eq!(train_vr::decode(nw, nv, (18 * nw + 2 * nv) as u32), None);
+        assert_eq!(
+            train_vr::decode(nw, nv, train_vr::PARAM_BASE + 4),
+            Some(TrainVar::Parameter(4))
+        );
+    }
+}

@@ -14,7 +14,8 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
 use tbi_dynamics::interface::{
-    BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
+    bridge_vr, BridgeResources, BridgeVar, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
+    WHEEL_CHANNELS,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
 use tbi_dynamics::track::{RailProfile, Smooth};
@@ -128,15 +129,19 @@ impl FmuModel for BridgeFmu {
 
     fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
         let nw = self.res.n_wheelsets;
-        if (vr as usize) >= 5 * nw {
+        let Some(BridgeVar::Wheel { w, k }) = bridge_vr::decode(nw, self.res.probes.len(), vr)
+        else {
             return Err(format!(
                 "value reference {vr} is not an input of the bridge FMU"
             ));
-        }
+        };
         if !value.is_finite() {
-            return Err(format!("input {} = {value} is not finite", self.name(vr)));
+            return Err(format!(
+                "input ws[{}].{} = {value} is not finite",
+                w + 1,
+                WHEEL_CHANNELS[k].0
+            ));
         }
-        let (w, k) = (vr as usize / 5, vr as usize % 5);
         let i = &mut self.inputs[w];
         match k {
             0 => i.x = value,
@@ -149,21 +154,22 @@ impl FmuModel for BridgeFmu {
 
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
         let nw = self.res.n_wheelsets;
-        let vr = vr as usize;
-        if vr < 5 * nw {
-            let i = self.inputs[vr / 5];
-            return Ok(match vr % 5 {
+        let var = bridge_vr::decode(nw, self.res.probes.len(), vr)
+            .ok_or_else(|| format!("unknown value reference {vr}"))?;
+        if let BridgeVar::Wheel { w, k } = var {
+            let i = self.inputs[w];
+            return Ok(match k {
                 0 => i.x,
                 1 => i.vx,
                 k => i.f[k - 2],
             });
         }
-        let o = vr - 5 * nw;
-        if o >= self.outputs.len() {
-            return Err(format!("unknown value reference {vr}"));
-        }
         self.refresh();
-        Ok(self.outputs[o])
+        Ok(match var {
+            BridgeVar::Rail { w, k } => self.outputs[9 * w + k],
+            BridgeVar::Probe { p, k } => self.outputs[9 * nw + 5 * p + k],
+            BridgeVar::Wheel { .. } => unreachable!("handled above"),
+        })
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
@@ -204,18 +210,6 @@ impl FmuModel for BridgeFmu {
         self.initialized = s.initialized;
         self.dirty = true;
         Ok(())
-    }
-}
-
-impl BridgeFmu {
-    /// Name of input value reference `vr` (< 5 × wheelsets).
-    fn name(&self, vr: u32) -> String {
-        let (w, k) = (vr as usize / 5, vr as usize % 5);
-        format!(
-            "ws[{}].{}",
-            w + 1,
-            tbi_dynamics::interface::WHEEL_CHANNELS[k].0
-        )
     }
 }
 

@@ -13,7 +13,8 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
 use tbi_dynamics::interface::{
-    train_parameters, train_vr, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
+    train_parameters, train_vr, TrainResources, TrainSpec, TrainVar, BUILD_ID, TRAIN_ID,
+    TRAIN_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::VehicleState;
@@ -205,47 +206,44 @@ impl FmuModel for TrainFmu {
         if !value.is_finite() {
             return Err(format!("value reference {vr}: {value} is not finite"));
         }
-        let nw = self.nw;
-        if (vr as usize) < 9 * nw {
-            let (w, k) = (vr as usize / 9, vr as usize % 9);
-            self.rails[w][k / 3][k % 3] = value;
-            self.dirty = true;
-            return Ok(());
-        }
-        if vr >= train_vr::PARAM_BASE {
-            if phase == Phase::Stepping {
-                return Err(format!(
-                    "parameter (value reference {vr}) is fixed after initialisation"
-                ));
+        match train_vr::decode(self.nw, self.res.spec.n_vehicles(), vr) {
+            Some(TrainVar::Rail { w, k }) => self.rails[w][k / 3][k % 3] = value,
+            Some(TrainVar::Parameter(j)) => {
+                if phase == Phase::Stepping {
+                    return Err(format!(
+                        "parameter (value reference {vr}) is fixed after initialisation"
+                    ));
+                }
+                self.set_parameter(j, value)?;
             }
-            self.set_parameter((vr - train_vr::PARAM_BASE) as usize, value)?;
-            self.dirty = true;
-            return Ok(());
+            _ => {
+                return Err(format!(
+                    "value reference {vr} is not an input or parameter of the train FMU"
+                ))
+            }
         }
-        Err(format!(
-            "value reference {vr} is not an input or parameter of the train FMU"
-        ))
+        self.dirty = true;
+        Ok(())
     }
 
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+        let unknown = || format!("unknown value reference {vr}");
         let nw = self.nw;
-        let v = vr as usize;
-        if v < 9 * nw {
-            return Ok(self.rails[v / 9][(v % 9) / 3][v % 3]);
-        }
-        if vr >= train_vr::PARAM_BASE {
-            let p = train_parameters(&self.res);
-            return p
-                .get((vr - train_vr::PARAM_BASE) as usize)
+        match train_vr::decode(nw, self.res.spec.n_vehicles(), vr).ok_or_else(unknown)? {
+            TrainVar::Rail { w, k } => Ok(self.rails[w][k / 3][k % 3]),
+            TrainVar::Parameter(j) => train_parameters(&self.res)
+                .get(j)
                 .map(|x| x.3)
-                .ok_or_else(|| format!("unknown value reference {vr}"));
+                .ok_or_else(unknown),
+            TrainVar::Wheel { w, k } => {
+                self.refresh()?;
+                Ok(self.outputs[9 * w + k])
+            }
+            TrainVar::Vehicle { i, k } => {
+                self.refresh()?;
+                Ok(self.outputs[9 * nw + 2 * i + k])
+            }
         }
-        let o = v - 9 * nw;
-        if o >= self.outputs.len() {
-            return Err(format!("unknown value reference {vr}"));
-        }
-        self.refresh()?;
-        Ok(self.outputs[o])
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
