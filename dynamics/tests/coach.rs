@@ -247,3 +247,49 @@ fn vertical_bounce(v: &tbi_dynamics::vehicle::LinearVehicle) -> f64 {
     }
     best.1
 }
+
+/// Quasi-static limit (train speed → 0): the car body and bogies settle in static
+/// equilibrium over wheelsets displaced by the rail, `K v = −Σ K_vw u_l`. Each bogie follows
+/// its two wheelsets in lateral, yaw, vertical and pitch, and the car body follows the two
+/// bogies, so the primary and secondary springs stay undeformed whatever the lateral and
+/// vertical rail irregularity: every wheelset carries exactly its static load (F_y = 0,
+/// F_z = P0), and the wheelset-form derail and offload factors vanish. Only a cross-level
+/// difference between the wheelsets of one bogie (track twist) deforms the springs: it
+/// changes the wheelset roll moment M_x and so the left/right wheel loads.
+#[test]
+fn wheelset_forces_are_static_in_the_quasi_static_limit() {
+    let p = CoachParams::xia2000();
+    let v = p.build().unwrap();
+    // Arbitrary rail displacements (Y, θ, Z) under the four wheelsets, m and rad.
+    let ys = [3.1e-3, -1.7e-3, 2.2e-3, 0.4e-3];
+    let zs = [-2.5e-3, 1.9e-3, 0.7e-3, -3.3e-3];
+    let run = |thetas: [f64; 4]| -> Vec<Vector3<f64>> {
+        let rails: Vec<[Vector3<f64>; 3]> = (0..4)
+            .map(|l| {
+                [
+                    Vector3::new(ys[l], thetas[l], zs[l]),
+                    Vector3::zeros(),
+                    Vector3::zeros(),
+                ]
+            })
+            .collect();
+        let st = tbi_dynamics::solver::VehicleState::initial(&v, &rails);
+        (0..4)
+            .map(|l| {
+                v.wheel_force(l, &st.v, &st.vd, &rails[l][0], &rails[l][1], &rails[l][2])
+                    - v.wheelsets[l].p0
+            })
+            .collect()
+    };
+    // Common cross-level: the whole vehicle rolls with the track, no force changes at all.
+    for df in run([1.2e-3; 4]) {
+        assert!(df.norm() < 1e-9 * v.wheelsets[0].p0.z, "ΔF = {df:?}");
+    }
+    // Track twist: F_y and F_z stay static, M_x does not.
+    let dfs = run([1.2e-3, -0.8e-3, 0.3e-3, 0.9e-3]);
+    for df in &dfs {
+        assert!(df.x.abs() < 1e-9 * v.wheelsets[0].p0.z, "ΔF_y = {}", df.x);
+        assert!(df.z.abs() < 1e-9 * v.wheelsets[0].p0.z, "ΔF_z = {}", df.z);
+    }
+    assert!(dfs.iter().all(|df| df.y.abs() > 1.0));
+}

@@ -278,7 +278,7 @@ impl FeModel {
                             let l2 = ((x2 - x1).powi(2) + (z2 - z1).powi(2)).sqrt();
                             let mut load = 0.5 * mc * g * (l1 + l2);
                             if s.hangers {
-                                let len = z1.abs();
+                                let len = -z1 - p.hanger_anchor_elevation;
                                 load += hanger_deck_force(x1) + p.hanger.mass_per_length * g * len;
                             }
                             load
@@ -311,11 +311,12 @@ impl FeModel {
                     .iter()
                     .enumerate()
                     .max_by(|a, b| a.1.total_cmp(b.1))
-                    .filter(|(_, &zk)| zk > -1.0)
+                    .filter(|(_, &zk)| zk > -1.0 - p.hanger_anchor_elevation)
                 {
                     return Err(FeError::Geometry(format!(
-                        "the cable at x = {} m is only {} m above the deck shear centre",
-                        s.x[k], -zk
+                        "the cable at x = {} m is only {} m above the hanger anchors on the deck",
+                        s.x[k],
+                        -zk - p.hanger_anchor_elevation
                     )));
                 }
             }
@@ -368,7 +369,13 @@ impl FeModel {
         let hangers: Vec<(f64, f64, f64)> = stations
             .iter()
             .filter(|s| s.kind == CableStationKind::Hanger)
-            .map(|s| (s.x, hanger_deck_force(s.x), -s.z))
+            .map(|s| {
+                (
+                    s.x,
+                    hanger_deck_force(s.x),
+                    -s.z - p.hanger_anchor_elevation,
+                )
+            })
             .collect();
         let saddle_reaction = {
             let mut r = [0.0; 2];
@@ -526,13 +533,13 @@ impl FeModel {
                 if s.kind != CableStationKind::Hanger {
                     continue;
                 }
-                let len = -s.z;
+                let len = -s.z - p.hanger_anchor_elevation;
                 let t_deck = hanger_deck_force(s.x);
                 st.add_bar_with_arms(
                     nodes[k],
                     [0.0; 3],
                     deck_node_at(s.x),
-                    [0.0, y, 0.0],
+                    [0.0, y, -p.hanger_anchor_elevation],
                     BarProps {
                         ea: p.hanger.e * p.hanger.area,
                         mass_per_length: p.hanger.mass_per_length,

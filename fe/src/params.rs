@@ -120,6 +120,11 @@ pub struct SuspensionBridgeParams {
     // -------------------------------------------------------- discretisation (m)
     /// Distance between the two cable planes, m. Default 36.
     pub cable_spacing: f64,
+    /// Elevation of the hanger anchor points on the deck above the shear centre, m. The
+    /// rigid arm from the spine to a hanger is (0, ∓cable_spacing/2, −this). Default 0 when
+    /// absent from a file; Tsing Ma 3.8 (see [`tsing_ma`]).
+    #[serde(default)]
+    pub hanger_anchor_elevation: f64,
     /// Target hanger spacing, m; the actual spacing divides each suspended span into an
     /// integer number of equal bays (an even number in the main span). Default 18.
     pub hanger_spacing: f64,
@@ -190,6 +195,7 @@ pub fn tsing_ma() -> SuspensionBridgeParams {
         left_anchorage_elevation: 0.0,
         right_anchorage_elevation: 0.0,
         cable_spacing: 36.0,
+        hanger_anchor_elevation: 3.8,
         hanger_spacing: 18.0,
         element_length: 18.0,
         gravity: 9.81,
@@ -199,7 +205,7 @@ pub fn tsing_ma() -> SuspensionBridgeParams {
             area: 1.2,
             iy: 18.5,
             iz: 205.0,
-            j: 36.0,
+            j: 34.0,
             mass_per_length: 32_000.0,
             mass_moment_per_length: 6.4e6,
         },
@@ -269,6 +275,13 @@ impl SuspensionBridgeParams {
         pos("main_sag_ratio", self.main_sag_ratio)?;
         pos("cable_spacing", self.cable_spacing)?;
         pos("hanger_spacing", self.hanger_spacing)?;
+        if !self.hanger_anchor_elevation.is_finite() {
+            return Err(FeError::parameter(
+                "hanger_anchor_elevation",
+                self.hanger_anchor_elevation,
+                "must be finite",
+            ));
+        }
         pos("element_length", self.element_length)?;
         pos("gravity", self.gravity)?;
         pos("cable.e", self.cable.e)?;

@@ -247,3 +247,60 @@ fn mass_hung_on_two_hangers_through_rigid_arms() {
         assert!((got / want - 1.0).abs() < 1e-10, "ω² = {got} vs {want}");
     }
 }
+
+/// The same mass hung from anchors a height d **above** its centre (arms (0, ±b, −d), z
+/// down): lateral sway and roll couple. With hanger length L, T = m g / 2 per hanger and
+/// θ the roll, the anchors move by (v + d θ, w ± b θ); the potential
+/// ½ m g ((v + d θ)²/L + d θ²) (string and compound pendulum) + ½ (2 EA/L)(b θ)² + … gives
+///
+/// ```text
+/// K = [ m g/L      m g d/L                   ]   M = [ m  0    ]
+///     [ m g d/L    m g d²/L + m g d + 2EA b²/L ]       [ 0  m c² ]
+/// ```
+///
+/// on (v, θ), and ω² = 2EA/(L m) vertically.
+#[test]
+fn mass_hung_from_anchors_above_its_centre_sways_and_rolls_together() {
+    let (m, g, lh, b, c, d, ea) = (2.0e4, 9.81, 30.0, 6.0, 9.0, 4.0, 4.0e5);
+    let mut s = Structure::new();
+    let deck = s.add_node([0.0, 0.0, 0.0]);
+    s.fix(deck, &[Dof::Ux, Dof::Ry, Dof::Rz]).unwrap();
+    for side in [-1.0, 1.0] {
+        let top = s.add_point([0.0, side * b, -(lh + d)]);
+        s.fix(top, &Dof::TRANSLATIONS).unwrap();
+        s.add_bar_with_arms(
+            top,
+            [0.0; 3],
+            deck,
+            [0.0, side * b, -d],
+            BarProps {
+                ea,
+                mass_per_length: 0.0,
+                tension: 0.5 * m * g,
+            },
+        )
+        .unwrap();
+        s.add_point_mass(deck, 0.5 * m, [0.0, side * c, 0.0])
+            .unwrap();
+    }
+    let sys = s.assemble().unwrap();
+    assert_eq!(sys.dof_count(), 3);
+    let pairs = sys.eigen(3).unwrap();
+    // Generalised 2×2 eigenvalues of (K, M) in closed form.
+    let (kvv, kvt, ktt) = (
+        m * g / lh,
+        m * g * d / lh,
+        m * g * d * d / lh + m * g * d + 2.0 * ea * b * b / lh,
+    );
+    let (mv, mt) = (m, m * c * c);
+    let tr = kvv / mv + ktt / mt;
+    let det = (kvv * ktt - kvt * kvt) / (mv * mt);
+    let disc = (tr * tr - 4.0 * det).sqrt();
+    let mut expected = [0.5 * (tr - disc), 0.5 * (tr + disc), 2.0 * ea / (lh * m)];
+    expected.sort_by(f64::total_cmp);
+    for (got, want) in pairs.omega2.iter().zip(expected) {
+        assert!((got / want - 1.0).abs() < 1e-10, "ω² = {got} vs {want}");
+    }
+    // The coupling is real: the sway mode differs from the plain pendulum g/L.
+    assert!((pairs.omega2[0] / (g / lh) - 1.0).abs() > 1e-2);
+}
