@@ -12,6 +12,7 @@ use crate::coupling::{
 use crate::fmi::{Fmu, FmuState, Instance, InstantiateOptions, StepResult};
 use crate::model::Model;
 use crate::scenario::Scenario;
+use model_description::VariableKind;
 use serde_json::json;
 use std::collections::HashMap;
 use std::path::Path;
@@ -23,11 +24,28 @@ use tbi_dynamics::solver::partitioned::ProbeValues;
 pub struct FmuParticipant {
     pub inst: Instance,
     saved: Option<FmuState>,
+    /// Declared unit of each Real variable, by value reference.
+    units: HashMap<u32, String>,
 }
 
 impl FmuParticipant {
-    pub fn new(inst: Instance) -> Self {
-        FmuParticipant { inst, saved: None }
+    /// Wrap an instance of `fmu`; the units of its Real variables come from its model
+    /// description.
+    pub fn new(fmu: &Fmu, inst: Instance) -> Self {
+        let units = fmu
+            .model_description()
+            .model_variables
+            .iter()
+            .filter_map(|v| match &v.kind {
+                VariableKind::Real(r) => r.attributes.unit.clone().map(|u| (v.value_reference, u)),
+                _ => None,
+            })
+            .collect();
+        FmuParticipant {
+            inst,
+            saved: None,
+            units,
+        }
     }
 }
 
@@ -62,6 +80,9 @@ impl Participant for FmuParticipant {
             .as_ref()
             .ok_or_else(|| CouplingError::new(format!("{}: no saved state", self.inst.name())))?;
         self.inst.set_fmu_state(s).map(|_| ()).map_err(cerr)
+    }
+    fn unit(&self, vr: u32) -> Option<&str> {
+        self.units.get(&vr).map(String::as_str)
     }
 }
 
@@ -141,8 +162,8 @@ pub fn build_system(
     t.exit_initialization_mode()?;
     Ok(System {
         participants: vec![
-            Box::new(FmuParticipant::new(b)),
-            Box::new(FmuParticipant::new(t)),
+            Box::new(FmuParticipant::new(&bfmu, b)),
+            Box::new(FmuParticipant::new(&tfmu, t)),
         ],
         connections,
     })

@@ -137,7 +137,8 @@ pub struct CouplingConfig {
     /// Relaxation factor ω ∈ (0, 1] (dimensionless): the constant factor, Aitken's initial
     /// factor and the factor of IQN-ILS's first iteration. Default 0.5.
     pub relaxation: f64,
-    /// Relative tolerance of the interface iteration (dimensionless, ≥ 0). Default 1e-10.
+    /// Relative tolerance of the interface iteration (dimensionless, ≥ 0), relative to the
+    /// largest value of the same unit from the same participant. Default 1e-10.
     pub rtol: f64,
     /// Absolute tolerance, in the units of the interface values (> 0). Default 1e-12.
     pub atol: f64,

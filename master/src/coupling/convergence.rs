@@ -12,6 +12,20 @@
 //! and the iteration has converged when `‖x̃ − x‖ ≤ 1`. Each value is thus compared with its
 //! own magnitude, so positions (~1e3 m), displacements (~1e-3 m) and forces (~1e5 N) can share
 //! one interface. With `n = 0` (no feedback) the measure is 0.
+//!
+//! **Groups** ([`WeightedRms::evaluate_grouped`]). A value that passes through zero (a lateral
+//! force, a roll moment) would be held to `atol` alone, down at the rounding level of its
+//! computation, where the iteration may stall. Values of one physical quantity (the same
+//! source and unit, e.g. all wheel forces in N) therefore form a group `g`, and each value is
+//! compared with the largest magnitude in its group:
+//!
+//! ```text
+//!            ┌  1   n   ⎛         x̃ᵢ − xᵢ          ⎞² ┐ ½
+//! ‖x̃ − x‖ = │ ───  Σ   ⎜ ───────────────────────── ⎟  │ ,   X_g = max |x̃ⱼ| over j ∈ g .
+//!            └  n  i=1  ⎝ rtol·X_g(i) + atol        ⎠  ┘
+//! ```
+//!
+//! A group of one value is the plain measure above.
 
 /// Weighted RMS of the interface change with relative and absolute tolerances.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,8 +62,78 @@ impl WeightedRms {
         (sum / x.len() as f64).sqrt()
     }
 
+    /// The grouped measure (module docs): `group_of[i]` is the group of value i, and
+    /// `group_max` (one entry per group) is scratch space.
+    pub fn evaluate_grouped(
+        &self,
+        x: &[f64],
+        x_tilde: &[f64],
+        group_of: &[usize],
+        group_max: &mut [f64],
+    ) -> f64 {
+        assert!(
+            x.len() == x_tilde.len() && x.len() == group_of.len(),
+            "interface vectors of different length"
+        );
+        if x.is_empty() {
+            return 0.0;
+        }
+        group_max.iter_mut().for_each(|m| *m = 0.0);
+        for (&g, &v) in group_of.iter().zip(x_tilde) {
+            group_max[g] = group_max[g].max(v.abs());
+        }
+        let sum: f64 = x
+            .iter()
+            .zip(x_tilde)
+            .zip(group_of)
+            .map(|((&xi, &ti), &g)| {
+                let e = (ti - xi) / (self.rtol * group_max[g] + self.atol);
+                e * e
+            })
+            .sum();
+        (sum / x.len() as f64).sqrt()
+    }
+
     /// Whether `x̃` is converged with respect to `x`.
     pub fn converged(&self, x: &[f64], x_tilde: &[f64]) -> bool {
         self.evaluate(x, x_tilde) <= 1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::WeightedRms;
+
+    #[test]
+    fn groups_of_one_value_give_the_plain_measure() {
+        let m = WeightedRms::new(1e-6, 1e-9);
+        let x = [1.0, -2.0e5, 3.0e-3, 0.0];
+        let xt = [1.0 + 1e-6, -2.0e5 + 0.3, 3.0e-3 - 1e-9, 1e-10];
+        let mut scratch = [0.0; 4];
+        let plain = m.evaluate(&x, &xt);
+        let grouped = m.evaluate_grouped(&x, &xt, &[0, 1, 2, 3], &mut scratch);
+        assert!(
+            (plain - grouped).abs() <= 1e-15 * plain,
+            "{plain} vs {grouped}"
+        );
+    }
+
+    /// A value crossing zero is judged against its group's largest value: with rtol = 1e-10
+    /// and a tiny atol a change of 1e-7 N in a 1e-3 N lateral force fails on its own, but is
+    /// converged beside a 1.6e5 N vertical force (threshold 1.6e-5 N).
+    #[test]
+    fn a_value_near_zero_is_measured_against_its_group() {
+        let m = WeightedRms::new(1e-10, 1e-14);
+        let x = [1.0e-3, 1.6e5];
+        let xt = [1.0e-3 + 1e-7, 1.6e5];
+        let mut scratch = [0.0; 2];
+        assert!(m.evaluate_grouped(&x, &xt, &[0, 1], &mut scratch[..2]) > 1.0);
+        let grouped = m.evaluate_grouped(&x, &xt, &[0, 0], &mut scratch[..1]);
+        let expected = (0.5f64).sqrt() * 1e-7 / (1e-10 * 1.6e5 + 1e-14);
+        assert!(
+            (grouped / expected - 1.0).abs() < 1e-12,
+            "{grouped} vs {expected}"
+        );
+        assert!(grouped <= 1.0);
     }
 }

@@ -18,8 +18,13 @@
 //! [`WeightedRms`](super::convergence::WeightedRms),
 //!
 //! ```text
-//! ‖x̃ₖ − xₖ‖ = sqrt( (1/n) Σᵢ ((x̃ₖ,ᵢ − xₖ,ᵢ) / (rtol·|x̃ₖ,ᵢ| + atol))² ) ≤ 1 ,
+//! ‖x̃ₖ − xₖ‖ = sqrt( (1/n) Σᵢ ((x̃ₖ,ᵢ − xₖ,ᵢ) / (rtol·X_g(i) + atol))² ) ≤ 1 ,
 //! ```
+//!
+//! with `X_g` the largest |x̃ₖ,ⱼ| among the unknowns of i's group: those from the same source
+//! participant with the same declared unit
+//! ([`Participant::unit`](super::system::Participant::unit): all wheel forces in N, all
+//! moments in N·m, …), or i alone when its source declares no unit.
 //!
 //! or `max_iterations` sweeps are done. Between sweeps the [`Acceleration`] computes `xₖ₊₁`
 //! from `(xₖ, x̃ₖ)`.
@@ -101,6 +106,10 @@ pub struct Implicit {
     /// Scaling block of each unknown, and the largest |x̃| seen in each block during the run.
     block_of: Vec<usize>,
     block_max: Vec<f64>,
+    /// Convergence group of each unknown (same source and declared unit; a group of its own
+    /// when no unit is declared) and scratch for the group maxima.
+    group_of: Vec<usize>,
+    group_max: Vec<f64>,
     x: Vec<f64>,
     x_tilde: Vec<f64>,
     next: Vec<f64>,
@@ -125,6 +134,8 @@ impl Implicit {
             initial: None,
             block_of: Vec::new(),
             block_max: Vec::new(),
+            group_of: Vec::new(),
+            group_max: Vec::new(),
             x: Vec::new(),
             x_tilde: Vec::new(),
             next: Vec::new(),
@@ -158,6 +169,34 @@ impl Implicit {
             })
             .collect();
         self.block_max = vec![0.0; pairs.len()];
+        let mut groups: Vec<(usize, &str)> = Vec::new();
+        let mut singles = 0;
+        let keyed: Vec<Option<usize>> = ex
+            .feedback_pairs
+            .iter()
+            .zip(&ex.feedback_units)
+            .map(|(&(from, _), unit)| {
+                let key = (from, unit.as_deref()?);
+                Some(match groups.iter().position(|g| *g == key) {
+                    Some(g) => g,
+                    None => {
+                        groups.push(key);
+                        groups.len() - 1
+                    }
+                })
+            })
+            .collect();
+        let named = groups.len();
+        self.group_of = keyed
+            .into_iter()
+            .map(|g| {
+                g.unwrap_or_else(|| {
+                    singles += 1;
+                    named + singles - 1
+                })
+            })
+            .collect();
+        self.group_max = vec![0.0; named + singles];
         self.exchange = Some(ex);
         self.history.clear();
         self.initial = None;
@@ -249,7 +288,12 @@ impl CouplingScheme for Implicit {
             }
             ex.feedback_values(&mut self.x_tilde);
             report.iterations = k + 1;
-            report.residual = self.measure.evaluate(&self.x, &self.x_tilde);
+            report.residual = self.measure.evaluate_grouped(
+                &self.x,
+                &self.x_tilde,
+                &self.group_of,
+                &mut self.group_max,
+            );
             if report.residual <= 1.0 {
                 report.converged = true;
                 break;

@@ -44,6 +44,12 @@ pub trait Participant {
     fn save_state(&mut self) -> Result<(), CouplingError>;
     /// Restore the state saved last by [`Participant::save_state`].
     fn restore_state(&mut self) -> Result<(), CouplingError>;
+    /// Unit of output `vr` (e.g. `"N"`), if declared. Feedback values of one source with the
+    /// same unit are measured together by the convergence test (see
+    /// [`WeightedRms`](super::convergence::WeightedRms)). Default: none declared.
+    fn unit(&self, _vr: u32) -> Option<&str> {
+        None
+    }
 }
 
 /// `to.to_vr := from.from_vr` (indices into [`System::participants`]).
