@@ -278,7 +278,7 @@ impl FeModel {
                             let l2 = ((x2 - x1).powi(2) + (z2 - z1).powi(2)).sqrt();
                             let mut load = 0.5 * mc * g * (l1 + l2);
                             if s.hangers {
-                                let len = -z1 - p.hanger_anchor_elevation;
+                                let len = p.hanger_length(z1);
                                 load += hanger_deck_force(x1) + p.hanger.mass_per_length * g * len;
                             }
                             load
@@ -311,12 +311,12 @@ impl FeModel {
                     .iter()
                     .enumerate()
                     .max_by(|a, b| a.1.total_cmp(b.1))
-                    .filter(|(_, &zk)| zk > -1.0 - p.hanger_anchor_elevation)
+                    .filter(|(_, &zk)| p.hanger_length(zk) < 1.0)
                 {
                     return Err(FeError::Geometry(format!(
                         "the cable at x = {} m is only {} m above the hanger anchors on the deck",
                         s.x[k],
-                        -zk - p.hanger_anchor_elevation
+                        p.hanger_length(zk)
                     )));
                 }
             }
@@ -369,13 +369,7 @@ impl FeModel {
         let hangers: Vec<(f64, f64, f64)> = stations
             .iter()
             .filter(|s| s.kind == CableStationKind::Hanger)
-            .map(|s| {
-                (
-                    s.x,
-                    hanger_deck_force(s.x),
-                    -s.z - p.hanger_anchor_elevation,
-                )
-            })
+            .map(|s| (s.x, hanger_deck_force(s.x), p.hanger_length(s.z)))
             .collect();
         let saddle_reaction = {
             let mut r = [0.0; 2];
@@ -533,7 +527,7 @@ impl FeModel {
                 if s.kind != CableStationKind::Hanger {
                     continue;
                 }
-                let len = -s.z - p.hanger_anchor_elevation;
+                let len = p.hanger_length(s.z);
                 let t_deck = hanger_deck_force(s.x);
                 st.add_bar_with_arms(
                     nodes[k],

@@ -258,6 +258,12 @@ impl SuspensionBridgeParams {
         self.tower_height - self.deck_level_above_tower_base
     }
 
+    /// Length of a hanger from a cable node at `cable_z` (z down, m) to its anchor on the
+    /// deck, `hanger_anchor_elevation` above the shear centre, m.
+    pub fn hanger_length(&self, cable_z: f64) -> f64 {
+        -cable_z - self.hanger_anchor_elevation
+    }
+
     /// Check ranges and ordering; returns the first problem found.
     pub fn validate(&self) -> Result<(), FeError> {
         let pos = |name: &'static str, v: f64| -> Result<(), FeError> {

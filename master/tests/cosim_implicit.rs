@@ -70,10 +70,10 @@ const EXPLICIT_GS: Method = Method {
 };
 
 impl Method {
-    fn coupling(&self, atol: f64) -> String {
+    fn coupling(&self) -> String {
         format!(
             "scheme = \"{}\"\nacceleration = \"{}\"\nrelaxation = {:?}\nrtol = 1e-12\n\
-             atol = {atol:e}\nmax_iterations = {MAX_ITERATIONS}\non_non_convergence = \"stop\"\n",
+             atol = {ATOL:e}\nmax_iterations = {MAX_ITERATIONS}\non_non_convergence = \"stop\"\n",
             self.scheme, self.acceleration, self.relaxation
         )
     }
@@ -118,7 +118,7 @@ fn run_case(label: &str, scenario: &Scenario, methods: &[&Method]) -> (History, 
         .enumerate()
         .map(|(k, m)| {
             let p = Scenario::parse(&scenario.text())
-                .coupling(&m.coupling(ATOL))
+                .coupling(&m.coupling())
                 .write(&dir, &format!("cosim-{k}.toml"));
             let r = run(&p, "cosim", &dir.join(format!("cosim-{k}")), &[]);
             let summary = r.summary();

@@ -43,23 +43,7 @@ impl WeightedRms {
 
     /// `‖x̃ − x‖` as defined in the module documentation.
     pub fn evaluate(&self, x: &[f64], x_tilde: &[f64]) -> f64 {
-        assert_eq!(
-            x.len(),
-            x_tilde.len(),
-            "interface vectors of different length"
-        );
-        if x.is_empty() {
-            return 0.0;
-        }
-        let sum: f64 = x
-            .iter()
-            .zip(x_tilde)
-            .map(|(&xi, &ti)| {
-                let e = (ti - xi) / (self.rtol * ti.abs() + self.atol);
-                e * e
-            })
-            .sum();
-        (sum / x.len() as f64).sqrt()
+        self.rms(x, x_tilde, |_, t| t.abs())
     }
 
     /// The grouped measure (module docs): `group_of[i]` is the group of value i, and
@@ -71,23 +55,30 @@ impl WeightedRms {
         group_of: &[usize],
         group_max: &mut [f64],
     ) -> f64 {
-        assert!(
-            x.len() == x_tilde.len() && x.len() == group_of.len(),
+        assert_eq!(x.len(), group_of.len(), "one group per interface value");
+        group_max.iter_mut().for_each(|m| *m = 0.0);
+        for (&g, &v) in group_of.iter().zip(x_tilde) {
+            group_max[g] = group_max[g].max(v.abs());
+        }
+        self.rms(x, x_tilde, |i, _| group_max[group_of[i]])
+    }
+
+    /// Weighted RMS of `x̃ − x` with value i measured against `magnitude(i, x̃ᵢ)`.
+    fn rms(&self, x: &[f64], x_tilde: &[f64], magnitude: impl Fn(usize, f64) -> f64) -> f64 {
+        assert_eq!(
+            x.len(),
+            x_tilde.len(),
             "interface vectors of different length"
         );
         if x.is_empty() {
             return 0.0;
         }
-        group_max.iter_mut().for_each(|m| *m = 0.0);
-        for (&g, &v) in group_of.iter().zip(x_tilde) {
-            group_max[g] = group_max[g].max(v.abs());
-        }
         let sum: f64 = x
             .iter()
             .zip(x_tilde)
-            .zip(group_of)
-            .map(|((&xi, &ti), &g)| {
-                let e = (ti - xi) / (self.rtol * group_max[g] + self.atol);
+            .enumerate()
+            .map(|(i, (&xi, &ti))| {
+                let e = (ti - xi) / (self.rtol * magnitude(i, ti) + self.atol);
                 e * e
             })
             .sum();

@@ -156,47 +156,19 @@ impl Implicit {
     fn bind(&mut self, sys: &System) -> Result<(), CouplingError> {
         let ex = Exchange::new(sys)?;
         self.acceleration.initialize(ex.unknowns());
-        let mut pairs: Vec<(usize, usize)> = Vec::new();
-        self.block_of = ex
-            .feedback_pairs
-            .iter()
-            .map(|pair| match pairs.iter().position(|p| p == pair) {
-                Some(b) => b,
-                None => {
-                    pairs.push(*pair);
-                    pairs.len() - 1
-                }
-            })
-            .collect();
-        self.block_max = vec![0.0; pairs.len()];
-        let mut groups: Vec<(usize, &str)> = Vec::new();
-        let mut singles = 0;
-        let keyed: Vec<Option<usize>> = ex
-            .feedback_pairs
-            .iter()
-            .zip(&ex.feedback_units)
-            .map(|(&(from, _), unit)| {
-                let key = (from, unit.as_deref()?);
-                Some(match groups.iter().position(|g| *g == key) {
-                    Some(g) => g,
-                    None => {
-                        groups.push(key);
-                        groups.len() - 1
-                    }
-                })
-            })
-            .collect();
-        let named = groups.len();
-        self.group_of = keyed
-            .into_iter()
-            .map(|g| {
-                g.unwrap_or_else(|| {
-                    singles += 1;
-                    named + singles - 1
-                })
-            })
-            .collect();
-        self.group_max = vec![0.0; named + singles];
+        let n_blocks;
+        (self.block_of, n_blocks) = number_by_key(ex.feedback_pairs.iter().copied());
+        self.block_max = vec![0.0; n_blocks];
+        // Same source and unit; an unknown without a declared unit keys on its own index.
+        let n_groups;
+        (self.group_of, n_groups) = number_by_key(
+            ex.feedback_pairs
+                .iter()
+                .zip(&ex.feedback_units)
+                .enumerate()
+                .map(|(i, (&(from, _), unit))| (from, unit.as_deref().ok_or(i))),
+        );
+        self.group_max = vec![0.0; n_groups];
         self.exchange = Some(ex);
         self.history.clear();
         self.initial = None;
@@ -331,6 +303,22 @@ impl CouplingScheme for Implicit {
 }
 
 /// `X_b ← max(X_b, |x̃ᵢ|)` for the block `b` of each unknown `i`.
+/// Numbers the distinct keys in order of first appearance: the number of each item's key and
+/// the count of distinct keys.
+fn number_by_key<K: PartialEq>(keys: impl Iterator<Item = K>) -> (Vec<usize>, usize) {
+    let mut seen: Vec<K> = Vec::new();
+    let numbers = keys
+        .map(|k| match seen.iter().position(|s| *s == k) {
+            Some(n) => n,
+            None => {
+                seen.push(k);
+                seen.len() - 1
+            }
+        })
+        .collect();
+    (numbers, seen.len())
+}
+
 fn record_magnitudes(block_of: &[usize], block_max: &mut [f64], x_tilde: &[f64]) {
     for (&b, &v) in block_of.iter().zip(x_tilde) {
         block_max[b] = block_max[b].max(v.abs());
