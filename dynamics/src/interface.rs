@@ -1,26 +1,30 @@
-//! The co-simulation interface: what the bridge and train FMUs carry in their resources and
-//! which scalar variables they expose, in one place for the FMUs and the master.
+//! The co-simulation interface shared by the two FMUs and the master: what the FMUs carry
+//! in their resources, the channel tables both sides of a connection use, and the block
+//! arithmetic that turns channel tables into value references, names and output slots.
+//! Each FMU's own layout (which blocks, in which order, with which texts) is described once
+//! next to its model: `fmu_bridge::layout` and `fmu_train::layout`.
 //!
-//! Naming pattern (FMI "structured" convention, 1-based indices, SI units):
+//! Naming pattern (FMI "structured" convention, 1-based indices, SI units): a [`Block`] of
+//! `count` × `channels` is named `{prefix}[{i}].{channel}`, e.g. `ws[3].F_z`. Its value
+//! references are consecutive, index slowest and channel fastest, and the blocks of an FMU
+//! follow each other from value reference 0 ([`Blocks`]). Output blocks also own consecutive
+//! slots of the FMU's output buffer in the same order.
 //!
-//! | FMU | causality | names |
+//! | channels | what | carried by |
 //! |---|---|---|
-//! | bridge | input | `ws[i].x` (m), `ws[i].vx` (m/s), `ws[i].F_y` (N), `ws[i].M_x` (N·m), `ws[i].F_z` (N) — position, speed and the force of wheelset i on the rail |
-//! | bridge | output | `ws[i].y`, `ws[i].theta`, `ws[i].z` (m, rad, m), `…_d` (velocities), `…_dd` (accelerations) — rail motion under wheelset i, deck plus irregularity |
-//! | bridge | output | `probe[k].y`, `probe[k].z`, `probe[k].theta`, `probe[k].y_dd`, `probe[k].z_dd` — deck response at probe k |
-//! | train | input | `ws[i].y` … `ws[i].z_dd` — the rail motion above |
-//! | train | output | `ws[i].x`, `ws[i].vx`, `ws[i].F_y`, `ws[i].M_x`, `ws[i].F_z`, `ws[i].P_left`, `ws[i].P_right` (N), `ws[i].derail`, `ws[i].offload` (–) |
-//! | train | output | `veh[k].a_y`, `veh[k].a_z` (m/s²) — car-body accelerations |
-//! | train | parameter | `speed` (m/s), `x0` (m), `hunting.amplitude` (m), `hunting.wavelength` (m), `hunting.seed`, `coach.<field>` |
+//! | [`WHEEL_CHANNELS`] | `x` (m), `vx` (m/s), `F_y` (N), `M_x` (N·m), `F_z` (N): position, speed and force of a wheelset on the rail | train output → bridge input |
+//! | [`RAIL_CHANNELS`] | `y`, `theta`, `z` (m, rad, m) and their `_d`, `_dd` derivatives: rail motion under a wheelset, deck plus irregularity | bridge output → train input |
 //!
 //! Signs: forces and moments act on the rail (deck); y right, z down, θ right side down.
 //! **Input timing**: inputs set before `fmi2DoStep(t, h)` are the values at `t + h` (what an
 //! implicit iteration needs); a plain fixed-step master therefore sees a one-step lag.
 
 use crate::bridge::ModalBridge;
+use crate::solver::partitioned::WheelInput;
 use crate::train::{Train, TrainVehicle};
 use crate::vehicle::coach::CoachParams;
 use crate::vehicle::simple::{moving_force, sprung_mass, MovingForceAxle, SprungMassAxle};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use tbi_track::{HuntingParams, WheelHunting};
@@ -36,52 +40,78 @@ pub const TRACK_RESOURCE: &str = "track.csv";
 /// Resource file of the train FMU (JSON of [`TrainResources`]).
 pub const TRAIN_RESOURCE: &str = "train.json";
 
-/// Rail-motion channel names per wheelset, in value-reference order.
-pub const RAIL_CHANNELS: [(&str, &str, &str); 9] = [
-    ("y", "m", "lateral rail displacement"),
-    ("theta", "rad", "rail roll (cross-level) angle"),
-    ("z", "m", "vertical rail displacement (+ down)"),
-    ("y_d", "m/s", "lateral rail velocity"),
-    ("theta_d", "rad/s", "rail roll rate"),
-    ("z_d", "m/s", "vertical rail velocity"),
-    ("y_dd", "m/s2", "lateral rail acceleration"),
-    ("theta_dd", "rad/s2", "rail roll acceleration"),
-    ("z_dd", "m/s2", "vertical rail acceleration"),
+/// One scalar channel of a block: its name (after the `.`), unit and description.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Channel {
+    pub name: &'static str,
+    /// Unit as written into `modelDescription.xml` (`"1"`: dimensionless, no unit written).
+    pub unit: &'static str,
+    pub description: &'static str,
+}
+
+const fn ch(name: &'static str, unit: &'static str, description: &'static str) -> Channel {
+    Channel {
+        name,
+        unit,
+        description,
+    }
+}
+
+/// Rail-motion channels per wheelset, in value-reference order: channel `k` is
+/// `rail[k / 3][k % 3]` of the `(u, u̇, ü) × (y, θ, z)` array both partitions use
+/// ([`rail_channel`]).
+pub const RAIL_CHANNELS: [Channel; 9] = [
+    ch("y", "m", "lateral rail displacement"),
+    ch("theta", "rad", "rail roll (cross-level) angle"),
+    ch("z", "m", "vertical rail displacement (+ down)"),
+    ch("y_d", "m/s", "lateral rail velocity"),
+    ch("theta_d", "rad/s", "rail roll rate"),
+    ch("z_d", "m/s", "vertical rail velocity"),
+    ch("y_dd", "m/s2", "lateral rail acceleration"),
+    ch("theta_dd", "rad/s2", "rail roll acceleration"),
+    ch("z_dd", "m/s2", "vertical rail acceleration"),
 ];
 
-/// Wheelset channels the train sends to the bridge, in value-reference order.
-pub const WHEEL_CHANNELS: [(&str, &str, &str); 5] = [
-    ("x", "m", "wheelset position along the track"),
-    ("vx", "m/s", "wheelset speed along the track"),
-    ("F_y", "N", "lateral force of the wheelset on the rail (+y)"),
-    (
+/// Wheelset channels the train sends to the bridge, in value-reference order (the fields of
+/// [`WheelInput`]: [`wheel_channel`]).
+pub const WHEEL_CHANNELS: [Channel; 5] = [
+    ch("x", "m", "wheelset position along the track"),
+    ch("vx", "m/s", "wheelset speed along the track"),
+    ch("F_y", "N", "lateral force of the wheelset on the rail (+y)"),
+    ch(
         "M_x",
         "N.m",
         "roll moment of the wheelset on the rail (about +x)",
     ),
-    (
+    ch(
         "F_z",
         "N",
         "vertical force of the wheelset on the rail (+ down)",
     ),
 ];
 
-/// Extra per-wheelset outputs of the train.
-pub const LOAD_CHANNELS: [(&str, &str, &str); 4] = [
-    ("P_left", "N", "left (-y) wheel vertical load"),
-    ("P_right", "N", "right (+y) wheel vertical load"),
-    ("derail", "1", "derail factor Q/P of the wheelset"),
-    ("offload", "1", "offload factor (P0 - P)/P0 of the wheelset"),
-];
+/// Indices into [`WHEEL_CHANNELS`].
+pub mod wheel {
+    pub const X: usize = 0;
+    pub const VX: usize = 1;
+    pub const F_Y: usize = 2;
+    pub const M_X: usize = 3;
+    pub const F_Z: usize = 4;
+}
 
-/// Probe channels of the bridge.
-pub const PROBE_CHANNELS: [(&str, &str, &str); 5] = [
-    ("y", "m", "deck lateral displacement"),
-    ("z", "m", "deck vertical displacement (+ down)"),
-    ("theta", "rad", "deck torsion"),
-    ("y_dd", "m/s2", "deck lateral acceleration"),
-    ("z_dd", "m/s2", "deck vertical acceleration"),
-];
+/// Channel `k` of [`WHEEL_CHANNELS`] in a wheelset's input.
+pub fn wheel_channel(input: &mut WheelInput, k: usize) -> &mut f64 {
+    match k {
+        wheel::X => &mut input.x,
+        wheel::VX => &mut input.vx,
+        _ => &mut input.f[k - wheel::F_Y],
+    }
+}
+
+/// Channel `k` of [`RAIL_CHANNELS`] in a wheelset's rail motion `(u, u̇, ü)`.
+pub fn rail_channel(rail: &mut [Vector3<f64>; 3], k: usize) -> &mut f64 {
+    &mut rail[k / 3][k % 3]
+}
 
 /// FMI causality of a variable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -103,6 +133,151 @@ pub struct Var {
     pub start: Option<f64>,
 }
 
+/// `count` × `channels` scalars named `{prefix}[{i}].{channel}` (1-based `i`) with
+/// consecutive value references from `vr0` (index slowest, channel fastest); an output block
+/// also owns the output-buffer slots from `slot0` in the same order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Block {
+    pub prefix: &'static str,
+    pub channels: &'static [Channel],
+    pub count: usize,
+    pub causality: Causality,
+    pub vr0: u32,
+    /// First output-buffer slot (outputs only).
+    pub slot0: Option<usize>,
+}
+
+impl Block {
+    /// Channels per index.
+    pub fn width(&self) -> usize {
+        self.channels.len()
+    }
+
+    /// Number of scalars.
+    pub fn len(&self) -> usize {
+        self.count * self.width()
+    }
+
+    /// Whether the block holds no scalar.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Value reference of channel `k` of index `i` (0-based).
+    pub fn vr(&self, i: usize, k: usize) -> u32 {
+        debug_assert!(i < self.count && k < self.width());
+        self.vr0 + (i * self.width() + k) as u32
+    }
+
+    /// `(i, k)` of a value reference inside the block.
+    pub fn decode(&self, vr: u32) -> Option<(usize, usize)> {
+        let o = vr.checked_sub(self.vr0)? as usize;
+        (o < self.len()).then(|| (o / self.width(), o % self.width()))
+    }
+
+    /// Output-buffer slot of channel `k` of index `i` (outputs only).
+    pub fn slot(&self, i: usize, k: usize) -> usize {
+        self.slot0.expect("an output block") + i * self.width() + k
+    }
+
+    /// The output-buffer slots of index `i` (outputs only).
+    pub fn slots(&self, i: usize) -> std::ops::Range<usize> {
+        self.slot(i, 0)..self.slot(i, 0) + self.width()
+    }
+
+    /// `{prefix}[{i + 1}].{channel k}`.
+    pub fn name(&self, i: usize, k: usize) -> String {
+        format!("{}[{}].{}", self.prefix, i + 1, self.channels[k].name)
+    }
+
+    /// Value references of channels `ks` of every index, index slowest.
+    pub fn vrs(&self, ks: &[usize]) -> Vec<u32> {
+        (0..self.count)
+            .flat_map(|i| ks.iter().map(move |&k| self.vr(i, k)))
+            .collect()
+    }
+
+    /// The block's variables in value-reference order; `describe(i, channel)` gives the
+    /// description, `start(i, k)` the start value.
+    pub fn variables(
+        &self,
+        describe: impl Fn(usize, &Channel) -> String,
+        start: impl Fn(usize, usize) -> Option<f64>,
+    ) -> Vec<Var> {
+        let mut v = Vec::with_capacity(self.len());
+        for i in 0..self.count {
+            for (k, c) in self.channels.iter().enumerate() {
+                v.push(Var {
+                    vr: self.vr(i, k),
+                    name: self.name(i, k),
+                    causality: self.causality,
+                    unit: c.unit.to_string(),
+                    description: describe(i, c),
+                    start: start(i, k),
+                });
+            }
+        }
+        v
+    }
+}
+
+/// Lays blocks end to end: value references from 0, output slots from 0.
+#[derive(Debug, Default)]
+pub struct Blocks {
+    next_vr: u32,
+    next_slot: usize,
+}
+
+impl Blocks {
+    /// The next block of inputs.
+    pub fn input(
+        &mut self,
+        prefix: &'static str,
+        channels: &'static [Channel],
+        count: usize,
+    ) -> Block {
+        self.block(prefix, channels, count, Causality::Input)
+    }
+
+    /// The next block of outputs (with buffer slots).
+    pub fn output(
+        &mut self,
+        prefix: &'static str,
+        channels: &'static [Channel],
+        count: usize,
+    ) -> Block {
+        self.block(prefix, channels, count, Causality::Output)
+    }
+
+    /// Output-buffer slots handed out so far.
+    pub fn n_slots(&self) -> usize {
+        self.next_slot
+    }
+
+    fn block(
+        &mut self,
+        prefix: &'static str,
+        channels: &'static [Channel],
+        count: usize,
+        causality: Causality,
+    ) -> Block {
+        let slot0 = (causality == Causality::Output).then_some(self.next_slot);
+        let b = Block {
+            prefix,
+            channels,
+            count,
+            causality,
+            vr0: self.next_vr,
+            slot0,
+        };
+        self.next_vr += b.len() as u32;
+        if slot0.is_some() {
+            self.next_slot += b.len();
+        }
+        b
+    }
+}
+
 /// A probe: name (for descriptions) and position, m.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProbeSpec {
@@ -118,100 +293,6 @@ pub struct BridgeResources {
     pub n_wheelsets: usize,
     /// Whether `track.csv` holds an irregularity record (else the track is smooth).
     pub has_track_record: bool,
-}
-
-/// A bridge FMU variable, decoded from its value reference (0-based indices).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BridgeVar {
-    /// `ws[w].<WHEEL_CHANNELS[k]>` (input).
-    Wheel { w: usize, k: usize },
-    /// `ws[w].<RAIL_CHANNELS[k]>` (output).
-    Rail { w: usize, k: usize },
-    /// `probe[p].<PROBE_CHANNELS[k]>` (output).
-    Probe { p: usize, k: usize },
-}
-
-/// Value references of the bridge FMU.
-pub mod bridge_vr {
-    use super::BridgeVar;
-
-    /// The variable behind `vr` for `nw` wheelsets and `np` probes (inverse of the functions
-    /// below).
-    pub fn decode(nw: usize, np: usize, vr: u32) -> Option<BridgeVar> {
-        let v = vr as usize;
-        if v < 5 * nw {
-            Some(BridgeVar::Wheel { w: v / 5, k: v % 5 })
-        } else if v < 14 * nw {
-            let o = v - 5 * nw;
-            Some(BridgeVar::Rail { w: o / 9, k: o % 9 })
-        } else if v < 14 * nw + 5 * np {
-            let o = v - 14 * nw;
-            Some(BridgeVar::Probe { p: o / 5, k: o % 5 })
-        } else {
-            None
-        }
-    }
-
-    /// `ws[w].<WHEEL_CHANNELS[k]>` (0-based w, k).
-    pub fn wheel_input(w: usize, k: usize) -> u32 {
-        (5 * w + k) as u32
-    }
-    /// `ws[w].<RAIL_CHANNELS[k]>`.
-    pub fn rail_output(nw: usize, w: usize, k: usize) -> u32 {
-        (5 * nw + 9 * w + k) as u32
-    }
-    /// `probe[p].<PROBE_CHANNELS[k]>`.
-    pub fn probe_output(nw: usize, p: usize, k: usize) -> u32 {
-        (14 * nw + 5 * p + k) as u32
-    }
-}
-
-impl BridgeResources {
-    /// All variables of the bridge FMU, in value-reference order.
-    pub fn variables(&self) -> Vec<Var> {
-        let nw = self.n_wheelsets;
-        let mut v = Vec::new();
-        for w in 0..nw {
-            for (k, (ch, unit, desc)) in WHEEL_CHANNELS.iter().enumerate() {
-                v.push(Var {
-                    vr: bridge_vr::wheel_input(w, k),
-                    name: format!("ws[{}].{ch}", w + 1),
-                    causality: Causality::Input,
-                    unit: unit.to_string(),
-                    description: format!("{desc}, wheelset {}", w + 1),
-                    start: Some(if k == 0 { -1.0e6 } else { 0.0 }),
-                });
-            }
-        }
-        for w in 0..nw {
-            for (k, (ch, unit, desc)) in RAIL_CHANNELS.iter().enumerate() {
-                v.push(Var {
-                    vr: bridge_vr::rail_output(nw, w, k),
-                    name: format!("ws[{}].{ch}", w + 1),
-                    causality: Causality::Output,
-                    unit: unit.to_string(),
-                    description: format!(
-                        "{desc} under wheelset {} (deck plus irregularity)",
-                        w + 1
-                    ),
-                    start: None,
-                });
-            }
-        }
-        for (p, probe) in self.probes.iter().enumerate() {
-            for (k, (ch, unit, desc)) in PROBE_CHANNELS.iter().enumerate() {
-                v.push(Var {
-                    vr: bridge_vr::probe_output(nw, p, k),
-                    name: format!("probe[{}].{ch}", p + 1),
-                    causality: Causality::Output,
-                    unit: unit.to_string(),
-                    description: format!("{desc} at probe {} (x = {} m)", probe.name, probe.x_m),
-                    start: None,
-                });
-            }
-        }
-        v
-    }
 }
 
 /// The vehicles of a train.
@@ -309,188 +390,6 @@ pub struct TrainResources {
     pub hunting: HuntingParams,
 }
 
-/// A train FMU variable, decoded from its value reference (0-based indices).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TrainVar {
-    /// `ws[w].<RAIL_CHANNELS[k]>` (input).
-    Rail { w: usize, k: usize },
-    /// `ws[w].<WHEEL_CHANNELS or LOAD_CHANNELS[k]>` (output, k < 9).
-    Wheel { w: usize, k: usize },
-    /// `veh[i].a_y` (k = 0) or `veh[i].a_z` (k = 1) (output).
-    Vehicle { i: usize, k: usize },
-    /// The j-th entry of [`train_parameters`].
-    Parameter(usize),
-}
-
-/// Value references of the train FMU.
-pub mod train_vr {
-    use super::TrainVar;
-
-    /// The variable behind `vr` for `nw` wheelsets and `nv` vehicles (inverse of the functions
-    /// below; parameter indices are not range-checked here).
-    pub fn decode(nw: usize, nv: usize, vr: u32) -> Option<TrainVar> {
-        if vr >= PARAM_BASE {
-            return Some(TrainVar::Parameter((vr - PARAM_BASE) as usize));
-        }
-        let v = vr as usize;
-        if v < 9 * nw {
-            Some(TrainVar::Rail { w: v / 9, k: v % 9 })
-        } else if v < 18 * nw {
-            let o = v - 9 * nw;
-            Some(TrainVar::Wheel { w: o / 9, k: o % 9 })
-        } else if v < 18 * nw + 2 * nv {
-            let o = v - 18 * nw;
-            Some(TrainVar::Vehicle { i: o / 2, k: o % 2 })
-        } else {
-            None
-        }
-    }
-
-    /// `ws[w].<RAIL_CHANNELS[k]>` inputs.
-    pub fn rail_input(w: usize, k: usize) -> u32 {
-        (9 * w + k) as u32
-    }
-    /// `ws[w].<WHEEL_CHANNELS[k]>` (k < 5) or `<LOAD_CHANNELS[k-5]>` outputs.
-    pub fn wheel_output(nw: usize, w: usize, k: usize) -> u32 {
-        (9 * nw + 9 * w + k) as u32
-    }
-    /// `veh[i].a_y` (k = 0) / `veh[i].a_z` (k = 1).
-    pub fn vehicle_output(nw: usize, i: usize, k: usize) -> u32 {
-        (18 * nw + 2 * i + k) as u32
-    }
-    /// First parameter value reference.
-    pub const PARAM_BASE: u32 = 1_000_000;
-}
-
-/// Names of the train FMU's Real parameters in value-reference order from
-/// [`train_vr::PARAM_BASE`]: `speed`, `x0`, `hunting.amplitude`, `hunting.wavelength`,
-/// `hunting.seed`, then `coach.<field>` for coach trains.
-pub fn train_parameters(res: &TrainResources) -> Vec<(String, String, String, f64)> {
-    let mut p = vec![
-        (
-            "speed".to_string(),
-            "m/s".to_string(),
-            "train speed".to_string(),
-            res.speed_m_s,
-        ),
-        (
-            "x0".to_string(),
-            "m".to_string(),
-            "position of the first axle at the start time".to_string(),
-            res.x0_m,
-        ),
-        (
-            "hunting.amplitude".to_string(),
-            "m".to_string(),
-            "wheel hunting amplitude A_h (0 = off)".to_string(),
-            res.hunting.amplitude_m,
-        ),
-        (
-            "hunting.wavelength".to_string(),
-            "m".to_string(),
-            "wheel hunting wavelength L_h".to_string(),
-            res.hunting.wavelength_m,
-        ),
-        (
-            "hunting.seed".to_string(),
-            "1".to_string(),
-            "seed of the per-wheelset hunting phases (integer value)".to_string(),
-            res.hunting.seed as f64,
-        ),
-    ];
-    if let TrainSpec::Coaches { params, .. } = &res.spec {
-        for (name, value) in params.fields() {
-            let unit = unit_of(name);
-            p.push((
-                format!("coach.{name}"),
-                unit.to_string(),
-                format!("coach property {name} (Table 1)"),
-                value,
-            ));
-        }
-    }
-    p
-}
-
-fn unit_of(field: &str) -> &'static str {
-    if field.ends_with("_kg_m2") {
-        "kg.m2"
-    } else if field.ends_with("_kg") {
-        "kg"
-    } else if field.ends_with("_n_m") {
-        "N/m"
-    } else if field.ends_with("_ns_m") {
-        "N.s/m"
-    } else {
-        "m"
-    }
-}
-
-impl TrainResources {
-    /// All variables of the train FMU.
-    pub fn variables(&self) -> Vec<Var> {
-        let nw = self.spec.n_wheelsets();
-        let mut v = Vec::new();
-        for w in 0..nw {
-            for (k, (ch, unit, desc)) in RAIL_CHANNELS.iter().enumerate() {
-                v.push(Var {
-                    vr: train_vr::rail_input(w, k),
-                    name: format!("ws[{}].{ch}", w + 1),
-                    causality: Causality::Input,
-                    unit: unit.to_string(),
-                    description: format!(
-                        "{desc} under wheelset {} (deck plus irregularity)",
-                        w + 1
-                    ),
-                    start: Some(0.0),
-                });
-            }
-        }
-        for w in 0..nw {
-            let chans = WHEEL_CHANNELS.iter().chain(LOAD_CHANNELS.iter());
-            for (k, (ch, unit, desc)) in chans.enumerate() {
-                v.push(Var {
-                    vr: train_vr::wheel_output(nw, w, k),
-                    name: format!("ws[{}].{ch}", w + 1),
-                    causality: Causality::Output,
-                    unit: unit.to_string(),
-                    description: format!("{desc}, wheelset {}", w + 1),
-                    start: None,
-                });
-            }
-        }
-        for i in 0..self.spec.n_vehicles() {
-            for (k, (ch, desc)) in [
-                ("a_y", "car-body lateral acceleration"),
-                ("a_z", "car-body vertical acceleration"),
-            ]
-            .iter()
-            .enumerate()
-            {
-                v.push(Var {
-                    vr: train_vr::vehicle_output(nw, i, k),
-                    name: format!("veh[{}].{ch}", i + 1),
-                    causality: Causality::Output,
-                    unit: "m/s2".into(),
-                    description: format!("{desc}, vehicle {} (0 if not modelled)", i + 1),
-                    start: None,
-                });
-            }
-        }
-        for (j, (name, unit, desc, value)) in train_parameters(self).into_iter().enumerate() {
-            v.push(Var {
-                vr: train_vr::PARAM_BASE + j as u32,
-                name,
-                causality: Causality::Parameter,
-                unit,
-                description: desc,
-                start: Some(value),
-            });
-        }
-        v
-    }
-}
-
 /// Build identifier that goes into the FMUs' GUIDs (with the bytes of their resources).
 pub const BUILD_ID: &str = concat!("tbi-", env!("CARGO_PKG_VERSION"));
 
@@ -499,51 +398,40 @@ mod tests {
     use super::*;
 
     #[test]
-    fn decode_inverts_the_layout() {
-        let (nw, np, nv) = (7, 3, 2);
-        for w in 0..nw {
-            for k in 0..5 {
-                assert_eq!(
-                    bridge_vr::decode(nw, np, bridge_vr::wheel_input(w, k)),
-                    Some(BridgeVar::Wheel { w, k })
-                );
+    fn blocks_follow_each_other_and_decode_inverts_vr() {
+        let mut blocks = Blocks::default();
+        let a = blocks.input("ws", &WHEEL_CHANNELS, 3);
+        let b = blocks.output("ws", &RAIL_CHANNELS, 3);
+        let c = blocks.output("x", &WHEEL_CHANNELS[..2], 4);
+        assert_eq!((a.vr0, b.vr0, c.vr0), (0, 15, 42));
+        assert_eq!((a.slot0, b.slot0, c.slot0), (None, Some(0), Some(27)));
+        assert_eq!(blocks.n_slots(), 35);
+        for blk in [a, b, c] {
+            for i in 0..blk.count {
+                for k in 0..blk.width() {
+                    assert_eq!(blk.decode(blk.vr(i, k)), Some((i, k)));
+                }
             }
-            for k in 0..9 {
-                assert_eq!(
-                    bridge_vr::decode(nw, np, bridge_vr::rail_output(nw, w, k)),
-                    Some(BridgeVar::Rail { w, k })
-                );
-                assert_eq!(
-                    train_vr::decode(nw, nv, train_vr::rail_input(w, k)),
-                    Some(TrainVar::Rail { w, k })
-                );
-                assert_eq!(
-                    train_vr::decode(nw, nv, train_vr::wheel_output(nw, w, k)),
-                    Some(TrainVar::Wheel { w, k })
-                );
-            }
+            assert_eq!(blk.decode(blk.vr0 + blk.len() as u32), None);
         }
-        for p in 0..np {
-            for k in 0..5 {
-                assert_eq!(
-                    bridge_vr::decode(nw, np, bridge_vr::probe_output(nw, p, k)),
-                    Some(BridgeVar::Probe { p, k })
-                );
-            }
+        assert_eq!(b.decode(14), None);
+        assert_eq!(b.name(2, 8), "ws[3].z_dd");
+        assert_eq!(b.slots(1), 9..18);
+        assert_eq!(c.vrs(&[1]), vec![43, 45, 47, 49]);
+    }
+
+    #[test]
+    fn channel_accessors_follow_the_tables() {
+        let mut w = WheelInput::default();
+        for k in 0..WHEEL_CHANNELS.len() {
+            *wheel_channel(&mut w, k) = k as f64 + 1.0;
         }
-        for i in 0..nv {
-            for k in 0..2 {
-                assert_eq!(
-                    train_vr::decode(nw, nv, train_vr::vehicle_output(nw, i, k)),
-                    Some(TrainVar::Vehicle { i, k })
-                );
-            }
+        assert_eq!((w.x, w.vx, w.f), (1.0, 2.0, [3.0, 4.0, 5.0]));
+        let mut r = [Vector3::zeros(); 3];
+        for k in 0..RAIL_CHANNELS.len() {
+            *rail_channel(&mut r, k) = k as f64;
         }
-        assert_eq!(bridge_vr::decode(nw, np, (14 * nw + 5 * np) as u32), None);
-        assert_eq!(train_vr::decode(nw, nv, (18 * nw + 2 * nv) as u32), None);
-        assert_eq!(
-            train_vr::decode(nw, nv, train_vr::PARAM_BASE + 4),
-            Some(TrainVar::Parameter(4))
-        );
+        assert_eq!(r[1], Vector3::new(3.0, 4.0, 5.0));
+        assert_eq!(RAIL_CHANNELS[5].name, "z_d");
     }
 }

@@ -40,7 +40,7 @@ use crate::instance::{type_tag, Instance, INSTANCE_MAGIC};
 use crate::logging::{Logger, LOG_EVENTS};
 use crate::model::FmuModel;
 use crate::snapshot::Snapshot;
-use crate::state::{Function, State};
+use crate::state::{Allowed, Function, State};
 use crate::types::*;
 use crate::uri;
 
@@ -908,12 +908,12 @@ pub unsafe fn get_string_status<M: FmuModel>(
 }
 
 /// The generic functions driven directly (no shared object) with a mock model; the
-/// logger is the harness's C shim, hence the feature gate.
-#[cfg(all(test, feature = "harness"))]
+/// logger is the binding's C shim (a dev-dependency feature).
+#[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::LogCapture;
     use crate::model::{Log, Phase, StepOutcome};
+    use fmi2::logger::LogCapture;
     use std::ffi::CString;
     use std::path::Path;
 

@@ -420,7 +420,7 @@ macro_rules! export_fmi2 {
 
             // The signatures above are exactly the fmi2FunctionTypes.h typedefs.
             const _: () = {
-                use $crate::types::function_types::*;
+                use $crate::functions::*;
                 const _: fmi2GetTypesPlatformTYPE = fmi2GetTypesPlatform;
                 const _: fmi2GetVersionTYPE = fmi2GetVersion;
                 const _: fmi2SetDebugLoggingTYPE = fmi2SetDebugLogging;

@@ -14,10 +14,8 @@
 //! | [`instance`] | the object behind `fmi2Component` and the body of each function |
 //! | [`snapshot`] | `fmi2FMUstate` objects and the serialized-state format |
 //! | [`logging`] | the importer's logger, log categories and filtering |
-//! | [`uri`] | `fmuResourceLocation` → path |
 //! | [`mod@guid`] | deterministic GUIDs shared by the packager and the model |
-//! | [`types`] | the fmi2 C types |
-//! | `harness` (feature `harness`) | a C-ABI misuse harness for any FMU shared object |
+//! | [`types`], [`uri`] | the fmi2 C types and `fmuResourceLocation` decoding, from the one binding in the `fmi2` crate |
 //!
 //! # Life of a call
 //!
@@ -46,11 +44,8 @@ pub mod logging;
 pub mod model;
 pub mod snapshot;
 pub mod state;
-pub mod types;
-pub mod uri;
 
-#[cfg(feature = "harness")]
-pub mod harness;
+pub use fmi2::{functions, types, uri};
 
 pub use guid::guid;
 pub use model::{FmuModel, Log, Phase, StepOutcome};

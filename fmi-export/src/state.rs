@@ -195,126 +195,19 @@ const STATUS: M = M::STEP_COMPLETE
     .or(M::STEP_CANCELED)
     .or(M::TERMINATED);
 
-/// The FMI 2.0 Co-Simulation functions (25 common + 9 Co-Simulation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Function {
-    GetTypesPlatform,
-    GetVersion,
-    SetDebugLogging,
-    Instantiate,
-    FreeInstance,
-    SetupExperiment,
-    EnterInitializationMode,
-    ExitInitializationMode,
-    Terminate,
-    Reset,
-    GetReal,
-    GetInteger,
-    GetBoolean,
-    GetString,
-    SetReal,
-    SetInteger,
-    SetBoolean,
-    SetString,
-    GetFmuState,
-    SetFmuState,
-    FreeFmuState,
-    SerializedFmuStateSize,
-    SerializeFmuState,
-    DeSerializeFmuState,
-    GetDirectionalDerivative,
-    SetRealInputDerivatives,
-    GetRealOutputDerivatives,
-    DoStep,
-    CancelStep,
-    GetStatus,
-    GetRealStatus,
-    GetIntegerStatus,
-    GetBooleanStatus,
-    GetStringStatus,
+pub use fmi2::Function;
+
+/// The states in which each FMI function may be called (the table in the module docs).
+pub trait Allowed {
+    /// The states in which the function may be called.
+    fn allowed(&self) -> StateMask;
+    /// Whether the function may be called in `state`.
+    fn is_allowed_in(&self, state: State) -> bool;
 }
 
-impl Function {
-    /// All 34 functions.
-    pub const ALL: [Function; 34] = [
-        Function::GetTypesPlatform,
-        Function::GetVersion,
-        Function::SetDebugLogging,
-        Function::Instantiate,
-        Function::FreeInstance,
-        Function::SetupExperiment,
-        Function::EnterInitializationMode,
-        Function::ExitInitializationMode,
-        Function::Terminate,
-        Function::Reset,
-        Function::GetReal,
-        Function::GetInteger,
-        Function::GetBoolean,
-        Function::GetString,
-        Function::SetReal,
-        Function::SetInteger,
-        Function::SetBoolean,
-        Function::SetString,
-        Function::GetFmuState,
-        Function::SetFmuState,
-        Function::FreeFmuState,
-        Function::SerializedFmuStateSize,
-        Function::SerializeFmuState,
-        Function::DeSerializeFmuState,
-        Function::GetDirectionalDerivative,
-        Function::SetRealInputDerivatives,
-        Function::GetRealOutputDerivatives,
-        Function::DoStep,
-        Function::CancelStep,
-        Function::GetStatus,
-        Function::GetRealStatus,
-        Function::GetIntegerStatus,
-        Function::GetBooleanStatus,
-        Function::GetStringStatus,
-    ];
-
-    /// The exported C symbol name.
-    pub const fn symbol(self) -> &'static str {
-        match self {
-            Function::GetTypesPlatform => "fmi2GetTypesPlatform",
-            Function::GetVersion => "fmi2GetVersion",
-            Function::SetDebugLogging => "fmi2SetDebugLogging",
-            Function::Instantiate => "fmi2Instantiate",
-            Function::FreeInstance => "fmi2FreeInstance",
-            Function::SetupExperiment => "fmi2SetupExperiment",
-            Function::EnterInitializationMode => "fmi2EnterInitializationMode",
-            Function::ExitInitializationMode => "fmi2ExitInitializationMode",
-            Function::Terminate => "fmi2Terminate",
-            Function::Reset => "fmi2Reset",
-            Function::GetReal => "fmi2GetReal",
-            Function::GetInteger => "fmi2GetInteger",
-            Function::GetBoolean => "fmi2GetBoolean",
-            Function::GetString => "fmi2GetString",
-            Function::SetReal => "fmi2SetReal",
-            Function::SetInteger => "fmi2SetInteger",
-            Function::SetBoolean => "fmi2SetBoolean",
-            Function::SetString => "fmi2SetString",
-            Function::GetFmuState => "fmi2GetFMUstate",
-            Function::SetFmuState => "fmi2SetFMUstate",
-            Function::FreeFmuState => "fmi2FreeFMUstate",
-            Function::SerializedFmuStateSize => "fmi2SerializedFMUstateSize",
-            Function::SerializeFmuState => "fmi2SerializeFMUstate",
-            Function::DeSerializeFmuState => "fmi2DeSerializeFMUstate",
-            Function::GetDirectionalDerivative => "fmi2GetDirectionalDerivative",
-            Function::SetRealInputDerivatives => "fmi2SetRealInputDerivatives",
-            Function::GetRealOutputDerivatives => "fmi2GetRealOutputDerivatives",
-            Function::DoStep => "fmi2DoStep",
-            Function::CancelStep => "fmi2CancelStep",
-            Function::GetStatus => "fmi2GetStatus",
-            Function::GetRealStatus => "fmi2GetRealStatus",
-            Function::GetIntegerStatus => "fmi2GetIntegerStatus",
-            Function::GetBooleanStatus => "fmi2GetBooleanStatus",
-            Function::GetStringStatus => "fmi2GetStringStatus",
-        }
-    }
-
+impl Allowed for Function {
     /// The states in which the function may be called.
-    pub const fn allowed(self) -> StateMask {
+    fn allowed(&self) -> StateMask {
         match self {
             Function::GetTypesPlatform | Function::GetVersion => M::ALL,
             Function::SetDebugLogging => SET_DEBUG_LOGGING,
@@ -355,15 +248,8 @@ impl Function {
         }
     }
 
-    /// Whether the function may be called in `state`.
-    pub const fn is_allowed_in(self, state: State) -> bool {
+    fn is_allowed_in(&self, state: State) -> bool {
         self.allowed().contains(state)
-    }
-}
-
-impl fmt::Display for Function {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.symbol())
     }
 }
 
@@ -510,15 +396,6 @@ mod tests {
                 Terminated
             ]
         );
-    }
-
-    #[test]
-    fn symbols_are_the_34_distinct_fmi2_names() {
-        let mut names: Vec<&str> = Function::ALL.iter().map(|f| f.symbol()).collect();
-        assert!(names.iter().all(|n| n.starts_with("fmi2")));
-        names.sort_unstable();
-        names.dedup();
-        assert_eq!(names.len(), 34);
     }
 
     #[test]

@@ -270,31 +270,6 @@ fn copy(from: &mut impl Read, to: &mut impl Write) -> io::Result<u64> {
     }
 }
 
-/// The `file:` URI of an absolute path, percent-encoding every byte but the RFC 3986
-/// unreserved characters and `/` — the form Python's `pathlib.Path.as_uri()` (and so
-/// FMPy) produces, e.g. `file:///tmp/a%20b/resources`.
-pub fn file_uri(path: &Path) -> Result<String, String> {
-    if !path.is_absolute() {
-        return Err(format!("{} is not an absolute path", path.display()));
-    }
-    #[cfg(unix)]
-    let bytes = {
-        use std::os::unix::ffi::OsStrExt;
-        path.as_os_str().as_bytes().to_vec()
-    };
-    #[cfg(not(unix))]
-    let bytes = path.to_string_lossy().replace('\\', "/").into_bytes();
-    let mut uri = String::from("file://");
-    for b in bytes {
-        if b.is_ascii_alphanumeric() || matches!(b, b'-' | b'.' | b'_' | b'~' | b'/') {
-            uri.push(b as char);
-        } else {
-            uri.push_str(&format!("%{b:02X}"));
-        }
-    }
-    Ok(uri)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -470,18 +445,5 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("missing.fmu: cannot open"), "{e}");
-    }
-
-    #[test]
-    fn file_uris_match_pathlib() {
-        assert_eq!(
-            file_uri(Path::new("/tmp/tbi-fmu-1/resources")).unwrap(),
-            "file:///tmp/tbi-fmu-1/resources"
-        );
-        assert_eq!(
-            file_uri(Path::new("/home/a b/r\u{e9}s#1%/x~y")).unwrap(),
-            "file:///home/a%20b/r%C3%A9s%231%25/x~y"
-        );
-        assert!(file_uri(Path::new("relative/dir")).is_err());
     }
 }

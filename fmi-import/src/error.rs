@@ -1,51 +1,9 @@
 //! Status codes and errors of the importer.
 
-use super::logger::LogMessage;
+use crate::logger::LogMessage;
 use std::fmt;
 
-/// `fmi2Status`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Status {
-    Ok,
-    Warning,
-    Discard,
-    Error,
-    Fatal,
-    Pending,
-}
-
-impl Status {
-    /// The status for a raw C value; `None` for values outside the enum.
-    pub fn from_raw(raw: i32) -> Option<Status> {
-        Some(match raw {
-            0 => Status::Ok,
-            1 => Status::Warning,
-            2 => Status::Discard,
-            3 => Status::Error,
-            4 => Status::Fatal,
-            5 => Status::Pending,
-            _ => return None,
-        })
-    }
-
-    /// The C enumerator's name (`fmi2OK`, …).
-    pub fn name(self) -> &'static str {
-        match self {
-            Status::Ok => "fmi2OK",
-            Status::Warning => "fmi2Warning",
-            Status::Discard => "fmi2Discard",
-            Status::Error => "fmi2Error",
-            Status::Fatal => "fmi2Fatal",
-            Status::Pending => "fmi2Pending",
-        }
-    }
-}
-
-impl fmt::Display for Status {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use fmi2::Status;
 
 /// What an FMI function returned when it failed: a known status or an out-of-range code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

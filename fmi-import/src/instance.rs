@@ -1,9 +1,12 @@
 //! A loaded FMU ([`Fmu`]) and its instances ([`Instance`]).
 
-use super::archive::{file_uri, fmu_display_name, unpack, UnpackLimits, UnpackedDir};
-use super::error::{CallStatus, FmiError, Status};
-use super::ffi::*;
-use super::logger::{forward, tbi_fmi2_logger, LogEnv, LogMessage, LogSink};
+use crate::archive::{fmu_display_name, unpack, UnpackLimits, UnpackedDir};
+use crate::error::{CallStatus, FmiError, Status};
+use crate::library::{Library, LoadError};
+use crate::logger::{LogEnv, LogMessage, LogSink};
+use fmi2::types::*;
+use fmi2::uri::file_uri;
+use fmi2::Functions;
 use model_description::{ModelDescription, VariableKind};
 use std::collections::HashMap;
 use std::ffi::{c_char, CStr, CString};
@@ -22,11 +25,10 @@ pub const PLATFORM: &str = "linux64";
 pub struct Fmu {
     name: String,
     model_description: ModelDescription,
-    functions: Fmi2Functions,
+    functions: Library,
     /// (value-reference space, value reference) → name of the first variable with it.
     names: HashMap<(Space, u32), String>,
     library_path: PathBuf,
-    _library: libloading::Library,
     dir: UnpackedDir,
 }
 
@@ -128,18 +130,17 @@ impl Fmu {
                 }
             )));
         }
-        let library = load_library(&library_path).map_err(|e| FmiError::Library {
-            fmu: name.clone(),
-            library: relative.clone(),
-            message: e.to_string(),
-        })?;
-        // SAFETY: the library is an FMU binary; FMI 2.0 fixes the exported signatures.
-        let functions = unsafe { Fmi2Functions::load(&library) }.map_err(|symbols| {
-            FmiError::MissingSymbols {
+        let functions = Library::load(&library_path).map_err(|e| match e {
+            LoadError::Open(message) => FmiError::Library {
                 fmu: name.clone(),
                 library: relative.clone(),
-                symbols,
-            }
+                message,
+            },
+            LoadError::MissingSymbols(symbols) => FmiError::MissingSymbols {
+                fmu: name.clone(),
+                library: relative.clone(),
+                symbols: symbols.iter().map(|s| s.to_string()).collect(),
+            },
         })?;
         // SAFETY: both functions take no arguments and return a static C string.
         let version = unsafe { static_str((functions.get_version)()) };
@@ -172,7 +173,6 @@ impl Fmu {
             functions,
             names,
             library_path,
-            _library: library,
             dir,
         }))
     }
@@ -233,17 +233,8 @@ impl Fmu {
         let c_guid = self.c_string(&self.model_description.guid, "guid")?;
         let c_uri = self.c_string(&self.resource_uri(), "fmuResourceLocation")?;
         let sink = Box::new(LogSink::new(options.echo_log));
-        let env = Box::new(LogEnv {
-            forward: Some(forward),
-            sink: &*sink,
-        });
-        let callbacks = Box::new(Fmi2CallbackFunctions {
-            logger: Some(tbi_fmi2_logger),
-            allocate_memory: Some(calloc),
-            free_memory: Some(free),
-            step_finished: None,
-            component_environment: &*env as *const LogEnv as *mut _,
-        });
+        let env = Box::new(LogEnv::new(&*sink));
+        let callbacks = Box::new(env.callbacks());
         sink.begin_call();
         // SAFETY: all strings are NUL-terminated and live across the call; `callbacks`,
         // `env` and `sink` are boxed and owned by the instance, so they outlive every
@@ -251,7 +242,7 @@ impl Fmu {
         let component = unsafe {
             (self.functions.instantiate)(
                 c_name.as_ptr(),
-                FMI2_CO_SIMULATION,
+                fmi2CoSimulation,
                 c_guid.as_ptr(),
                 c_uri.as_ptr(),
                 &*callbacks,
@@ -303,21 +294,6 @@ impl Fmu {
     }
 }
 
-fn load_library(path: &Path) -> Result<libloading::Library, libloading::Error> {
-    #[cfg(unix)]
-    {
-        use libloading::os::unix::{Library, RTLD_LOCAL, RTLD_NOW};
-        // RTLD_NOW: unresolved dependencies fail here, not in the middle of a simulation.
-        // SAFETY: loading runs the library's initialisers; an FMU is trusted code.
-        unsafe { Library::open(Some(path), RTLD_NOW | RTLD_LOCAL) }.map(Into::into)
-    }
-    #[cfg(not(unix))]
-    {
-        // SAFETY: as above.
-        unsafe { libloading::Library::new(path) }
-    }
-}
-
 fn list_platforms(dir: &Path) -> Vec<String> {
     let mut platforms: Vec<String> = std::fs::read_dir(dir.join("binaries"))
         .map(|entries| {
@@ -342,11 +318,11 @@ unsafe fn static_str(p: *const c_char) -> String {
     }
 }
 
-fn fmi2_bool(b: bool) -> Fmi2Boolean {
+fn fmi2_bool(b: bool) -> fmi2Boolean {
     if b {
-        FMI2_TRUE
+        fmi2True
     } else {
-        FMI2_FALSE
+        fmi2False
     }
 }
 
@@ -388,7 +364,7 @@ pub enum StepResult {
 /// FMU's `fmi2FreeInstance`, as the standard requires of the FMU).
 #[derive(Debug)]
 pub struct FmuState {
-    pointer: Fmi2FmuState,
+    pointer: fmi2FMUstate,
     instance_id: u64,
 }
 
@@ -401,12 +377,12 @@ pub struct FmuState {
 /// the messages the FMU logged during the call.
 pub struct Instance {
     fmu: Arc<Fmu>,
-    component: Fmi2Component,
+    component: fmi2Component,
     name: String,
     id: u64,
     fatal: bool,
     // Owned for the FMU: it may keep pointers to these until fmi2FreeInstance.
-    _callbacks: Box<Fmi2CallbackFunctions>,
+    _callbacks: Box<fmi2CallbackFunctions>,
     _env: Box<LogEnv>,
     sink: Box<LogSink>,
 }
@@ -459,7 +435,7 @@ impl Instance {
         &mut self,
         describe: impl FnOnce(&Fmu) -> String,
         allow_discard: bool,
-        f: impl FnOnce(&Fmi2Functions, Fmi2Component) -> Fmi2Status,
+        f: impl FnOnce(&Functions, fmi2Component) -> fmi2Status,
     ) -> Result<Status, FmiError> {
         self.sink.begin_call();
         let raw = f(&self.fmu.functions, self.component);
@@ -505,7 +481,7 @@ impl Instance {
             .iter()
             .map(|s| self.fmu.c_string(s, "log category"))
             .collect::<Result<_, _>>()?;
-        let pointers: Vec<Fmi2String> = c.iter().map(|s| s.as_ptr()).collect();
+        let pointers: Vec<fmi2String> = c.iter().map(|s| s.as_ptr()).collect();
         self.call(
             |_| {
                 format!(
@@ -659,7 +635,7 @@ impl Instance {
     /// `fmi2SetBoolean`.
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<Status, FmiError> {
         self.check_lengths("fmi2SetBoolean", vrs.len(), values.len())?;
-        let raw: Vec<Fmi2Boolean> = values.iter().map(|&b| fmi2_bool(b)).collect();
+        let raw: Vec<fmi2Boolean> = values.iter().map(|&b| fmi2_bool(b)).collect();
         self.call(
             |fmu| {
                 format!(
@@ -676,7 +652,7 @@ impl Instance {
     /// `fmi2GetBoolean` (any non-zero `fmi2Boolean` reads as `true`).
     pub fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<Status, FmiError> {
         self.check_lengths("fmi2GetBoolean", vrs.len(), values.len())?;
-        let mut raw = vec![FMI2_FALSE; vrs.len()];
+        let mut raw = vec![fmi2False; vrs.len()];
         let status = self.call(
             |fmu| format!("fmi2GetBoolean({})", fmu.names(Space::Boolean, vrs)),
             false,
@@ -684,7 +660,7 @@ impl Instance {
             |f, c| unsafe { (f.get_boolean)(c, vrs.as_ptr(), vrs.len(), raw.as_mut_ptr()) },
         )?;
         for (v, r) in values.iter_mut().zip(raw) {
-            *v = r != FMI2_FALSE;
+            *v = r != fmi2False;
         }
         Ok(status)
     }
@@ -696,7 +672,7 @@ impl Instance {
             .iter()
             .map(|s| self.fmu.c_string(s, "String value"))
             .collect::<Result<_, _>>()?;
-        let pointers: Vec<Fmi2String> = c.iter().map(|s| s.as_ptr()).collect();
+        let pointers: Vec<fmi2String> = c.iter().map(|s| s.as_ptr()).collect();
         self.call(
             |fmu| {
                 format!(
@@ -712,7 +688,7 @@ impl Instance {
 
     /// `fmi2GetString` (the strings are copied before the next call can invalidate them).
     pub fn get_string(&mut self, vrs: &[u32]) -> Result<Vec<String>, FmiError> {
-        let mut raw: Vec<Fmi2String> = vec![std::ptr::null(); vrs.len()];
+        let mut raw: Vec<fmi2String> = vec![std::ptr::null(); vrs.len()];
         self.call(
             |fmu| format!("fmi2GetString({})", fmu.names(Space::String, vrs)),
             false,
@@ -866,12 +842,12 @@ impl Instance {
 
     /// `fmi2GetStatus`.
     pub fn get_status(&mut self, kind: StatusKind) -> Result<CallStatus, FmiError> {
-        let mut value: Fmi2Status = 0;
+        let mut value: fmi2Status = 0;
         self.call(
             |_| format!("fmi2GetStatus({})", kind.name()),
             false,
             // SAFETY: one output value.
-            |f, c| unsafe { (f.get_status)(c, kind as Fmi2StatusKind, &mut value) },
+            |f, c| unsafe { (f.get_status)(c, kind as fmi2StatusKind, &mut value) },
         )?;
         Ok(Status::from_raw(value).map_or(CallStatus::Illegal(value), CallStatus::Status))
     }
@@ -883,7 +859,7 @@ impl Instance {
             |_| format!("fmi2GetRealStatus({})", kind.name()),
             false,
             // SAFETY: one output value.
-            |f, c| unsafe { (f.get_real_status)(c, kind as Fmi2StatusKind, &mut value) },
+            |f, c| unsafe { (f.get_real_status)(c, kind as fmi2StatusKind, &mut value) },
         )?;
         Ok(value)
     }
@@ -895,31 +871,31 @@ impl Instance {
             |_| format!("fmi2GetIntegerStatus({})", kind.name()),
             false,
             // SAFETY: one output value.
-            |f, c| unsafe { (f.get_integer_status)(c, kind as Fmi2StatusKind, &mut value) },
+            |f, c| unsafe { (f.get_integer_status)(c, kind as fmi2StatusKind, &mut value) },
         )?;
         Ok(value)
     }
 
     /// `fmi2GetBooleanStatus`.
     pub fn get_boolean_status(&mut self, kind: StatusKind) -> Result<bool, FmiError> {
-        let mut value = FMI2_FALSE;
+        let mut value = fmi2False;
         self.call(
             |_| format!("fmi2GetBooleanStatus({})", kind.name()),
             false,
             // SAFETY: one output value.
-            |f, c| unsafe { (f.get_boolean_status)(c, kind as Fmi2StatusKind, &mut value) },
+            |f, c| unsafe { (f.get_boolean_status)(c, kind as fmi2StatusKind, &mut value) },
         )?;
-        Ok(value != FMI2_FALSE)
+        Ok(value != fmi2False)
     }
 
     /// `fmi2GetStringStatus`.
     pub fn get_string_status(&mut self, kind: StatusKind) -> Result<String, FmiError> {
-        let mut value: Fmi2String = std::ptr::null();
+        let mut value: fmi2String = std::ptr::null();
         self.call(
             |_| format!("fmi2GetStringStatus({})", kind.name()),
             false,
             // SAFETY: one output value.
-            |f, c| unsafe { (f.get_string_status)(c, kind as Fmi2StatusKind, &mut value) },
+            |f, c| unsafe { (f.get_string_status)(c, kind as fmi2StatusKind, &mut value) },
         )?;
         // SAFETY: NULL or a NUL-terminated string owned by the FMU.
         Ok(unsafe { static_str(value) })
@@ -952,7 +928,7 @@ impl Instance {
 
     /// `fmi2GetFMUstate`: save the state into a new [`FmuState`], or overwrite `reuse`.
     pub fn get_fmu_state(&mut self, reuse: Option<FmuState>) -> Result<FmuState, FmiError> {
-        let mut pointer: Fmi2FmuState = std::ptr::null_mut();
+        let mut pointer: fmi2FMUstate = std::ptr::null_mut();
         if let Some(state) = reuse {
             self.check_state(&state, "fmi2GetFMUstate")?;
             pointer = state.pointer;
@@ -1020,7 +996,7 @@ impl Instance {
             |_| format!("fmi2SerializeFMUstate(size={size})"),
             false,
             |f, c| unsafe {
-                (f.serialize_fmu_state)(c, pointer, bytes.as_mut_ptr().cast::<Fmi2Byte>(), size)
+                (f.serialize_fmu_state)(c, pointer, bytes.as_mut_ptr().cast::<fmi2Byte>(), size)
             },
         )?;
         Ok(bytes)
@@ -1029,15 +1005,15 @@ impl Instance {
     /// `fmi2DeSerializeFMUstate`: a new [`FmuState`] of this instance from bytes written
     /// by [`Instance::serialize_fmu_state`] (possibly of another instance of the FMU).
     pub fn deserialize_fmu_state(&mut self, bytes: &[u8]) -> Result<FmuState, FmiError> {
-        let mut pointer: Fmi2FmuState = std::ptr::null_mut();
+        let mut pointer: fmi2FMUstate = std::ptr::null_mut();
         let result = self.call(
             |_| format!("fmi2DeSerializeFMUstate(size={})", bytes.len()),
             false,
             // SAFETY: the buffer is valid for bytes.len() bytes during the call.
             |f, c| unsafe {
-                (f.deserialize_fmu_state)(
+                (f.de_serialize_fmu_state)(
                     c,
-                    bytes.as_ptr().cast::<Fmi2Byte>(),
+                    bytes.as_ptr().cast::<fmi2Byte>(),
                     bytes.len(),
                     &mut pointer,
                 )

@@ -1,4 +1,5 @@
-//! FMI 2.0 Co-Simulation importer.
+//! FMI 2.0 Co-Simulation importer: load any FMU, call it safely, run it alone, and check
+//! an exporter's C ABI.
 //!
 //! [`Fmu::load`] takes an `.fmu` file through these steps, each failing with an
 //! [`FmiError`] that names the FMU (its file name) and what went wrong:
@@ -9,7 +10,7 @@
 //!    the [`Fmu`] is dropped.
 //! 2. **Describe**: read `modelDescription.xml` with the `model-description` crate; the
 //!    FMU must offer `<CoSimulation>`.
-//! 3. **Load** ([`ffi`]): `dlopen` `binaries/linux64/<modelIdentifier>.so` with
+//! 3. **Load** ([`library`]): `dlopen` `binaries/linux64/<modelIdentifier>.so` with
 //!    `RTLD_NOW | RTLD_LOCAL` and resolve all 34 FMI 2.0 Co-Simulation functions up
 //!    front, reporting every missing symbol at once; check `fmi2GetVersion` and
 //!    `fmi2GetTypesPlatform`.
@@ -17,10 +18,11 @@
 //! [`Fmu::instantiate`] then creates an [`Instance`], passing
 //!
 //! - `fmuResourceLocation` as the `file:` URI of the unpacked `resources` directory,
-//!   percent-encoded like Python's `pathlib` (see [`archive::file_uri`]);
-//! - the logger of [`logger`]: a C shim (built by `build.rs`) that expands the
-//!   variadic `fmi2CallbackLogger` with `vsnprintf` and forwards the text to Rust, where
-//!   the messages of the call in progress are kept to be attached to its error.
+//!   percent-encoded like Python's `pathlib` (see [`fmi2::uri::file_uri`]);
+//! - the binding's logger shim ([`fmi2::logger`]), which expands the variadic
+//!   `fmi2CallbackLogger` with `vsnprintf` and forwards the text to the instance's
+//!   [`logger::LogSink`], where the messages of the call in progress are kept to be
+//!   attached to its error.
 //!
 //! # Safety invariants
 //!
@@ -36,13 +38,22 @@
 //!   (including out-of-range ones) after it, and `fmi2GetReal` results for NaN and
 //!   infinity, which are errors naming the variable.
 
+//!
+//! Beside the importer: [`simulate`], the single-FMU runner behind `tbi simulate` (the
+//! defaults and CSV of `fmpy simulate`), and [`harness`], a C-ABI conformance and misuse
+//! harness for FMU shared objects, built on the same [`Library`] loader.
+
 pub mod archive;
 mod error;
-pub mod ffi;
+pub mod harness;
 mod instance;
+pub mod library;
 pub mod logger;
+pub mod simulate;
 
-pub use archive::{file_uri, UnpackLimits};
+pub use archive::UnpackLimits;
 pub use error::{CallStatus, FmiError, Status};
+pub use fmi2::uri::file_uri;
 pub use instance::{Fmu, FmuState, Instance, InstantiateOptions, StatusKind, StepResult, PLATFORM};
+pub use library::{Library, LoadError};
 pub use logger::LogMessage;

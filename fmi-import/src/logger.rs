@@ -1,46 +1,19 @@
-//! The logger handed to FMU instances.
+//! The per-instance receiver of an FMU's log messages.
 //!
-//! `fmi2CallbackLogger` is variadic; the C shim `logger_shim.c` (built by `build.rs`)
-//! defines `tbi_fmi2_logger`, expands the message with `vsnprintf` and calls
-//! [`forward`] with the finished text. The FMU gets a pointer to a [`LogEnv`] as its
-//! `componentEnvironment`; the `LogEnv` holds `forward` and a pointer to the instance's
-//! [`LogSink`]. Both are boxed by the instance and live until after `fmi2FreeInstance`,
-//! so the pointers the FMU keeps stay valid for as long as it may call the logger.
+//! The variadic `fmi2CallbackLogger` itself is the binding's C shim
+//! ([`fmi2::logger`]); the instance boxes a [`LogSink`] and a [`LogEnv`] pointing to it
+//! and keeps both until after `fmi2FreeInstance`, so the pointers the FMU keeps stay
+//! valid for as long as it may call the logger.
 //!
 //! The sink keeps the messages of the FMI call in progress (they are attached to the
 //! error if the call fails) and optionally echoes every message to standard error.
-//! [`forward`] never unwinds into C: a panic inside it is caught and dropped.
 
-use super::error::Status;
-use super::ffi::Fmi2Status;
-use std::ffi::{c_char, c_int, c_void, CStr};
-use std::fmt;
+pub use fmi2::logger::{LogEnv, LogMessage, LogReceiver};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 /// At most this many messages are kept per FMI call (later ones are counted, not kept).
 const MAX_MESSAGES_PER_CALL: usize = 1000;
-
-/// One message an FMU logged.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct LogMessage {
-    pub instance: String,
-    /// The status the FMU gave the message; `None` for a code outside `fmi2Status`.
-    pub status: Option<Status>,
-    pub category: String,
-    pub message: String,
-}
-
-impl fmt::Display for LogMessage {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let status = self.status.map_or("fmi2<illegal status>", Status::name);
-        write!(
-            f,
-            "[{}] {status} [{}] {}",
-            self.instance, self.category, self.message
-        )
-    }
-}
 
 /// Collects the messages of one instance.
 #[derive(Debug)]
@@ -113,180 +86,22 @@ impl LogSink {
     }
 }
 
-/// The non-variadic callback the C shim forwards to.
-pub type ForwardFn = unsafe extern "C" fn(
-    sink: *mut c_void,
-    instance_name: *const c_char,
-    status: c_int,
-    category: *const c_char,
-    message: *const c_char,
-);
-
-/// What `componentEnvironment` points at (layout shared with `tbi_fmi2_log_env` in C).
-#[repr(C)]
-pub struct LogEnv {
-    pub forward: Option<ForwardFn>,
-    pub sink: *const LogSink,
-}
-
-unsafe extern "C" {
-    /// The variadic `fmi2CallbackLogger` defined in `logger_shim.c`.
-    pub fn tbi_fmi2_logger(
-        component_environment: *mut c_void,
-        instance_name: *const c_char,
-        status: c_int,
-        category: *const c_char,
-        message: *const c_char,
-        ...
-    );
-}
-
-fn text(p: *const c_char) -> String {
-    if p.is_null() {
-        String::new()
-    } else {
-        // SAFETY: the FMU passes NUL-terminated strings (FMI 2.0 fmi2String), valid for
-        // the duration of the callback; the shim passes its own NUL-terminated buffer.
-        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+impl LogReceiver for LogSink {
+    fn receive(&self, message: LogMessage) {
+        self.push(message);
     }
-}
-
-/// Receives every expanded message from the shim.
-///
-/// # Safety
-/// `sink` is the `LogSink` pointer of a live [`LogEnv`] (the instance guarantees this);
-/// the strings are NUL-terminated or NULL.
-pub unsafe extern "C" fn forward(
-    sink: *mut c_void,
-    instance_name: *const c_char,
-    status: Fmi2Status,
-    category: *const c_char,
-    message: *const c_char,
-) {
-    let _ = std::panic::catch_unwind(|| {
-        if sink.is_null() {
-            return;
-        }
-        // SAFETY: see the function's safety section.
-        let sink = unsafe { &*(sink as *const LogSink) };
-        sink.push(LogMessage {
-            instance: text(instance_name),
-            status: Status::from_raw(status),
-            category: text(category),
-            message: text(message),
-        });
-    });
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::ffi::CString;
-
-    #[test]
-    fn shim_expands_printf_formats_and_forwards() {
-        let sink = LogSink::new(false);
-        let env = LogEnv {
-            forward: Some(forward),
-            sink: &sink,
-        };
-        let name = CString::new("inst").unwrap();
-        let category = CString::new("logStatusError").unwrap();
-        let format = CString::new("t=%g h=%.3f n=%d s=%s").unwrap();
-        let word = CString::new("word").unwrap();
-        sink.begin_call();
-        unsafe {
-            tbi_fmi2_logger(
-                &env as *const LogEnv as *mut c_void,
-                name.as_ptr(),
-                3,
-                category.as_ptr(),
-                format.as_ptr(),
-                0.5f64,
-                0.25f64,
-                42 as c_int,
-                word.as_ptr(),
-            );
-        }
-        let messages = sink.take_call_messages();
-        assert_eq!(
-            messages,
-            [LogMessage {
-                instance: "inst".into(),
-                status: Some(Status::Error),
-                category: "logStatusError".into(),
-                message: "t=0.5 h=0.250 n=42 s=word".into(),
-            }]
-        );
-        assert_eq!(
-            messages[0].to_string(),
-            "[inst] fmi2Error [logStatusError] t=0.5 h=0.250 n=42 s=word"
-        );
-    }
-
-    #[test]
-    fn long_messages_are_expanded_completely() {
-        let sink = LogSink::new(false);
-        let env = LogEnv {
-            forward: Some(forward),
-            sink: &sink,
-        };
-        let long = "x".repeat(5000);
-        let arg = CString::new(long.clone()).unwrap();
-        let format = CString::new("<%s>").unwrap();
-        unsafe {
-            tbi_fmi2_logger(
-                &env as *const LogEnv as *mut c_void,
-                std::ptr::null(),
-                0,
-                std::ptr::null(),
-                format.as_ptr(),
-                arg.as_ptr(),
-            );
-        }
-        let messages = sink.take_call_messages();
-        assert_eq!(messages[0].message, format!("<{long}>"));
-        assert_eq!(messages[0].instance, "");
-    }
-
-    #[test]
-    fn null_environment_and_null_message_are_harmless() {
-        let format = CString::new("%s").unwrap();
-        unsafe {
-            tbi_fmi2_logger(
-                std::ptr::null_mut(),
-                std::ptr::null(),
-                0,
-                std::ptr::null(),
-                format.as_ptr(),
-                std::ptr::null::<c_char>(),
-            );
-        }
-        let sink = LogSink::new(false);
-        let env = LogEnv {
-            forward: Some(forward),
-            sink: &sink,
-        };
-        unsafe {
-            tbi_fmi2_logger(
-                &env as *const LogEnv as *mut c_void,
-                std::ptr::null(),
-                7,
-                std::ptr::null(),
-                std::ptr::null(),
-            );
-        }
-        let messages = sink.take_call_messages();
-        assert_eq!(messages.len(), 1);
-        assert_eq!(messages[0].status, None);
-        assert_eq!(messages[0].message, "");
-    }
+    use fmi2::Status;
 
     #[test]
     fn messages_per_call_are_bounded() {
         let sink = LogSink::new(false);
         for i in 0..MAX_MESSAGES_PER_CALL + 5 {
-            sink.push(LogMessage {
+            sink.receive(LogMessage {
                 instance: "i".into(),
                 status: Some(Status::Ok),
                 category: "c".into(),

@@ -4,7 +4,7 @@
  * fmi2CallbackLogger is variadic (printf-style), and stable Rust cannot define a variadic
  * function. This shim expands the message with vsnprintf and forwards the finished text
  * to a non-variadic callback. The FMU passes back the fmi2ComponentEnvironment given at
- * fmi2Instantiate; the importer makes it point at a tbi_fmi2_log_env, whose `forward`
+ * fmi2Instantiate; the importer makes it point at a fmi2_log_env, whose `forward`
  * function and `sink` pointer are owned by the Rust side and outlive the instance.
  */
 #include <stdarg.h>
@@ -12,20 +12,20 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-typedef void (*tbi_fmi2_forward_fn)(void *sink, const char *instance_name, int status,
+typedef void (*fmi2_log_forward_fn)(void *sink, const char *instance_name, int status,
                                     const char *category, const char *message);
 
 typedef struct {
-    tbi_fmi2_forward_fn forward;
+    fmi2_log_forward_fn forward;
     void *sink;
-} tbi_fmi2_log_env;
+} fmi2_log_env;
 
 /* Messages longer than this are cut (with a marker) rather than allocated without bound. */
-#define TBI_FMI2_MAX_MESSAGE (1024 * 1024)
+#define FMI2_MAX_MESSAGE (1024 * 1024)
 
-void tbi_fmi2_logger(void *component_environment, const char *instance_name, int status,
+void fmi2_shim_logger(void *component_environment, const char *instance_name, int status,
                      const char *category, const char *message, ...) {
-    const tbi_fmi2_log_env *env = (const tbi_fmi2_log_env *)component_environment;
+    const fmi2_log_env *env = (const fmi2_log_env *)component_environment;
     char stack_buffer[1024];
     char *heap_buffer = NULL;
     const char *text = stack_buffer;
@@ -51,8 +51,8 @@ void tbi_fmi2_logger(void *component_environment, const char *instance_name, int
         text = message;
     } else if ((size_t)needed >= sizeof stack_buffer) {
         size_t size = (size_t)needed + 1;
-        if (size > TBI_FMI2_MAX_MESSAGE) {
-            size = TBI_FMI2_MAX_MESSAGE;
+        if (size > FMI2_MAX_MESSAGE) {
+            size = FMI2_MAX_MESSAGE;
         }
         heap_buffer = (char *)malloc(size);
         if (heap_buffer != NULL) {

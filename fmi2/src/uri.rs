@@ -1,4 +1,5 @@
-//! Decoding `fmuResourceLocation` into a filesystem path.
+//! `fmuResourceLocation`: decoding the URI an importer passes into a path (exporter side),
+//! and encoding a path as that URI (importer side, [`file_uri`]).
 //!
 //! The standard passes the location of the unpacked FMU's `resources` folder as a URI
 //! (RFC 3986, `file` scheme, RFC 8089). Importers spell it in several ways; all of these
@@ -277,5 +278,18 @@ mod tests {
         assert_eq!(percent_decode("abc").unwrap(), b"abc");
         assert_eq!(percent_decode("%41%62").unwrap(), b"Ab");
         assert_eq!(percent_decode("").unwrap(), b"");
+    }
+
+    #[test]
+    fn file_uris_match_pathlib() {
+        assert_eq!(
+            file_uri(std::path::Path::new("/tmp/tbi-fmu-1/resources")).unwrap(),
+            "file:///tmp/tbi-fmu-1/resources"
+        );
+        assert_eq!(
+            file_uri(std::path::Path::new("/home/a b/r\u{e9}s#1%/x~y")).unwrap(),
+            "file:///home/a%20b/r%C3%A9s%231%25/x~y"
+        );
+        assert!(file_uri(std::path::Path::new("relative/dir")).is_err());
     }
 }

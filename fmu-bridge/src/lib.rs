@@ -2,9 +2,10 @@
 //! plumbing is `fmi-export`'s, the equations are `tbi_dynamics::solver::partitioned::BridgeSide`.
 //!
 //! Resources: `bridge.json` ([`BridgeResources`]: modal bridge, probes, wheelset count) and,
-//! when the track is not smooth, `track.csv` (irregularity record). Variables: see
-//! [`tbi_dynamics::interface`]. Each `fmi2DoStep(t, h)` is one Newmark step of size `h` with
-//! the wheelset positions, speeds and forces at `t + h`.
+//! when the track is not smooth, `track.csv` (irregularity record). Variables: [`layout`]
+//! (the one description of them). Each `fmi2DoStep(t, h)` is one Newmark step of size `h`
+//! with the wheelset positions, speeds and forces at `t + h`. The C symbols are exported by
+//! the `bridge` shared object of `fmu-bridge/so`.
 
 // Index loops mirror the equations (q_n, ω_n, rows k of Ψ) and are kept on purpose.
 #![allow(clippy::needless_range_loop)]
@@ -13,9 +14,12 @@ use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
+pub mod layout;
+
+use layout::{probe_channels, BridgeLayout, BridgeVar, PARKED_X};
 use tbi_dynamics::interface::{
-    bridge_vr, BridgeResources, BridgeVar, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
-    WHEEL_CHANNELS,
+    rail_channel, wheel_channel, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
+    TRACK_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
 use tbi_dynamics::track::{RailProfile, Smooth};
@@ -29,6 +33,7 @@ pub fn guid_for(resource_bytes: &[u8]) -> String {
 #[derive(Clone)]
 pub struct BridgeFmu {
     res: Arc<BridgeResources>,
+    layout: Arc<BridgeLayout>,
     guid: String,
     side: BridgeSide,
     inputs: Vec<WheelInput>,
@@ -47,21 +52,21 @@ struct Saved {
 impl BridgeFmu {
     /// Build from resource data (used by `instantiate` and by tests).
     pub fn from_parts(res: BridgeResources, track: Arc<dyn RailProfile>, guid: String) -> Self {
-        let nw = res.n_wheelsets;
-        let n_out = 9 * nw + 5 * res.probes.len();
+        let layout = BridgeLayout::of(&res);
         let side = BridgeSide::new(Arc::new(res.modal.clone()), track);
         BridgeFmu {
-            inputs: (0..nw)
+            inputs: (0..layout.n_wheelsets())
                 .map(|_| WheelInput {
-                    x: -1.0e6,
+                    x: PARKED_X,
                     ..Default::default()
                 })
                 .collect(),
+            outputs: vec![0.0; layout.n_outputs()],
+            layout: Arc::new(layout),
             res: Arc::new(res),
             guid,
             side,
             initialized: false,
-            outputs: vec![0.0; n_out],
             dirty: true,
         }
     }
@@ -73,20 +78,17 @@ impl BridgeFmu {
         if !self.initialized {
             self.side.initialize(&self.inputs);
         }
-        let nw = self.res.n_wheelsets;
-        for w in 0..nw {
+        let l = &self.layout;
+        for w in 0..l.n_wheelsets() {
             let i = self.inputs[w];
-            let r = self.side.rail(w, i.x, i.vx);
-            for k in 0..3 {
-                self.outputs[9 * w + k] = r[0][k];
-                self.outputs[9 * w + 3 + k] = r[1][k];
-                self.outputs[9 * w + 6 + k] = r[2][k];
+            let mut r = self.side.rail(w, i.x, i.vx);
+            for k in 0..l.rail_out.width() {
+                self.outputs[l.rail_out.slot(w, k)] = *rail_channel(&mut r, k);
             }
         }
         for (p, probe) in self.res.probes.iter().enumerate() {
             let v = self.side.probe(probe.x_m);
-            let o = 9 * nw + 5 * p;
-            self.outputs[o..o + 5].copy_from_slice(&[v.y, v.z, v.theta, v.y_dd, v.z_dd]);
+            self.outputs[l.probe_out.slots(p)].copy_from_slice(&probe_channels(&v));
         }
         self.dirty = false;
     }
@@ -128,48 +130,31 @@ impl FmuModel for BridgeFmu {
     }
 
     fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
-        let nw = self.res.n_wheelsets;
-        let Some(BridgeVar::Wheel { w, k }) = bridge_vr::decode(nw, self.res.probes.len(), vr)
-        else {
+        let Some(BridgeVar::Wheel { w, k }) = self.layout.decode(vr) else {
             return Err(format!(
                 "value reference {vr} is not an input of the bridge FMU"
             ));
         };
         if !value.is_finite() {
             return Err(format!(
-                "input ws[{}].{} = {value} is not finite",
-                w + 1,
-                WHEEL_CHANNELS[k].0
+                "input {} = {value} is not finite",
+                self.layout.wheel_in.name(w, k)
             ));
         }
-        let i = &mut self.inputs[w];
-        match k {
-            0 => i.x = value,
-            1 => i.vx = value,
-            _ => i.f[k - 2] = value,
-        }
+        *wheel_channel(&mut self.inputs[w], k) = value;
         self.dirty = true;
         Ok(())
     }
 
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
-        let nw = self.res.n_wheelsets;
-        let var = bridge_vr::decode(nw, self.res.probes.len(), vr)
-            .ok_or_else(|| format!("unknown value reference {vr}"))?;
-        if let BridgeVar::Wheel { w, k } = var {
-            let i = self.inputs[w];
-            return Ok(match k {
-                0 => i.x,
-                1 => i.vx,
-                k => i.f[k - 2],
-            });
+        match self.layout.decode(vr) {
+            Some(BridgeVar::Wheel { w, k }) => Ok(*wheel_channel(&mut self.inputs[w], k)),
+            Some(BridgeVar::Output(slot)) => {
+                self.refresh();
+                Ok(self.outputs[slot])
+            }
+            None => Err(format!("unknown value reference {vr}")),
         }
-        self.refresh();
-        Ok(match var {
-            BridgeVar::Rail { w, k } => self.outputs[9 * w + k],
-            BridgeVar::Probe { p, k } => self.outputs[9 * nw + 5 * p + k],
-            BridgeVar::Wheel { .. } => unreachable!("handled above"),
-        })
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
@@ -212,5 +197,3 @@ impl FmuModel for BridgeFmu {
         Ok(())
     }
 }
-
-fmi_export::export_fmi2!(BridgeFmu, "bridge");

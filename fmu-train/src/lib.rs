@@ -3,18 +3,21 @@
 //!
 //! Resources: `train.json` ([`TrainResources`]: vehicles, speed, start position, hunting).
 //! Parameters (speed, start position, hunting, the coach's Table 1 properties) may be changed
-//! before `fmi2ExitInitializationMode`, which builds the vehicles. Variables: see
-//! [`tbi_dynamics::interface`]. Each `fmi2DoStep(t, h)` is one Newmark step of size `h` with
-//! the rail motion at `t + h`.
+//! before `fmi2ExitInitializationMode`, which builds the vehicles. Variables: [`layout`]
+//! (the one description of them). Each `fmi2DoStep(t, h)` is one Newmark step of size `h`
+//! with the rail motion at `t + h`. The C symbols are exported by the `train` shared object
+//! of `fmu-train/so`.
 
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
+pub mod layout;
+
+use layout::{parameters, TrainLayout, TrainVar};
 use tbi_dynamics::interface::{
-    train_parameters, train_vr, TrainResources, TrainSpec, TrainVar, BUILD_ID, TRAIN_ID,
-    TRAIN_RESOURCE,
+    rail_channel, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::VehicleState;
@@ -31,7 +34,7 @@ pub struct TrainFmu {
     original: Arc<TrainResources>,
     res: TrainResources,
     guid: String,
-    nw: usize,
+    layout: Arc<TrainLayout>,
     start_time: f64,
     /// Rail motion inputs (u, u̇, ü) per wheelset.
     rails: Vec<[Vector3<f64>; 3]>,
@@ -56,18 +59,17 @@ struct Saved {
 impl TrainFmu {
     /// Build from resource data (used by `instantiate` and by tests).
     pub fn from_parts(res: TrainResources, guid: String) -> Self {
-        let nw = res.spec.n_wheelsets();
-        let n_out = 9 * nw + 2 * res.spec.n_vehicles();
+        let layout = TrainLayout::of(&res);
         TrainFmu {
             original: Arc::new(res.clone()),
             res,
             guid,
-            nw,
             start_time: 0.0,
-            rails: vec![[Vector3::zeros(); 3]; nw],
+            rails: vec![[Vector3::zeros(); 3]; layout.n_wheelsets()],
             side: None,
             initialized: false,
-            outputs: vec![0.0; n_out],
+            outputs: vec![0.0; layout.n_outputs()],
+            layout: Arc::new(layout),
             dirty: true,
         }
     }
@@ -100,8 +102,8 @@ impl TrainFmu {
             .as_ref()
             .expect("built above or at initialisation");
         let t = side.t;
-        let nw = self.nw;
-        for w in 0..nw {
+        let l = &self.layout;
+        for w in 0..l.n_wheelsets() {
             let f = side.force(w);
             let ws = side.wheelsets[w];
             let model = &side.train.vehicles[ws.vehicle].model;
@@ -110,8 +112,8 @@ impl TrainFmu {
                 model.wheelsets[ws.local].p0.z,
                 model.contact_distance_m,
             );
-            let o = 9 * w;
-            self.outputs[o..o + 9].copy_from_slice(&[
+            // In the order of layout::WHEEL_OUT.
+            self.outputs[l.wheel_out.slots(w)].copy_from_slice(&[
                 side.x(w, t),
                 side.train.speed_m_s,
                 f.x,
@@ -124,19 +126,22 @@ impl TrainFmu {
             ]);
         }
         for (i, (tv, s)) in side.train.vehicles.iter().zip(&side.states).enumerate() {
-            let o = 9 * nw + 2 * i;
-            self.outputs[o] = tv.model.body.lateral.map(|d| s.vdd[d]).unwrap_or(0.0);
-            self.outputs[o + 1] = tv.model.body.vertical.map(|d| s.vdd[d]).unwrap_or(0.0);
+            let acceleration = |dof: Option<usize>| dof.map(|d| s.vdd[d]).unwrap_or(0.0);
+            self.outputs[l.vehicle_out.slots(i)].copy_from_slice(&[
+                acceleration(tv.model.body.lateral),
+                acceleration(tv.model.body.vertical),
+            ]);
         }
         self.dirty = false;
         Ok(())
     }
 
     fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), String> {
-        let names = train_parameters(&self.res);
-        let (name, ..) = names
+        let list = parameters(&self.res);
+        let name = &list
             .get(index)
-            .ok_or_else(|| format!("unknown parameter index {index}"))?;
+            .ok_or_else(|| format!("unknown parameter index {index}"))?
+            .name;
         match index {
             0 => self.res.speed_m_s = value,
             1 => self.res.x0_m = value,
@@ -206,8 +211,8 @@ impl FmuModel for TrainFmu {
         if !value.is_finite() {
             return Err(format!("value reference {vr}: {value} is not finite"));
         }
-        match train_vr::decode(self.nw, self.res.spec.n_vehicles(), vr) {
-            Some(TrainVar::Rail { w, k }) => self.rails[w][k / 3][k % 3] = value,
+        match self.layout.decode(vr) {
+            Some(TrainVar::Rail { w, k }) => *rail_channel(&mut self.rails[w], k) = value,
             Some(TrainVar::Parameter(j)) => {
                 if phase == Phase::Stepping {
                     return Err(format!(
@@ -228,20 +233,15 @@ impl FmuModel for TrainFmu {
 
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
         let unknown = || format!("unknown value reference {vr}");
-        let nw = self.nw;
-        match train_vr::decode(nw, self.res.spec.n_vehicles(), vr).ok_or_else(unknown)? {
-            TrainVar::Rail { w, k } => Ok(self.rails[w][k / 3][k % 3]),
-            TrainVar::Parameter(j) => train_parameters(&self.res)
+        match self.layout.decode(vr).ok_or_else(unknown)? {
+            TrainVar::Rail { w, k } => Ok(*rail_channel(&mut self.rails[w], k)),
+            TrainVar::Parameter(j) => parameters(&self.res)
                 .get(j)
-                .map(|x| x.3)
+                .map(|p| p.value)
                 .ok_or_else(unknown),
-            TrainVar::Wheel { w, k } => {
+            TrainVar::Output(slot) => {
                 self.refresh()?;
-                Ok(self.outputs[9 * w + k])
-            }
-            TrainVar::Vehicle { i, k } => {
-                self.refresh()?;
-                Ok(self.outputs[9 * nw + 2 * i + k])
+                Ok(self.outputs[slot])
             }
         }
     }
@@ -280,7 +280,7 @@ impl FmuModel for TrainFmu {
 
     fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
         let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("train state: {e}"))?;
-        if s.rails.len() != self.nw {
+        if s.rails.len() != self.layout.n_wheelsets() {
             return Err("train state does not match this FMU's size".into());
         }
         self.res = s.res;
@@ -301,5 +301,3 @@ impl FmuModel for TrainFmu {
         Ok(())
     }
 }
-
-fmi_export::export_fmi2!(TrainFmu, "train");

@@ -9,16 +9,16 @@
 use crate::coupling::{
     advance, build_scheme, CouplingError, CouplingStatistics, Participant, StepStatus, System,
 };
-use crate::fmi::{Fmu, FmuState, Instance, InstantiateOptions, StepResult};
+use crate::export::{Exported, Side};
 use crate::model::Model;
 use crate::scenario::Scenario;
+use fmi_import::{Fmu, FmuState, Instance, InstantiateOptions, StepResult};
+use fmu_bridge::layout::probe_values;
 use model_description::VariableKind;
 use serde_json::json;
 use std::collections::HashMap;
-use std::path::Path;
-use tbi_dynamics::interface::{bridge_vr, train_vr};
+use tbi_dynamics::interface::wheel;
 use tbi_dynamics::response::{Recorder, Sample};
-use tbi_dynamics::solver::partitioned::ProbeValues;
 
 /// An FMU instance as a coupling participant, with one rollback slot.
 pub struct FmuParticipant {
@@ -95,15 +95,12 @@ fn vr_map(fmu: &Fmu) -> HashMap<String, u32> {
         .collect()
 }
 
-/// Load, instantiate and initialise both FMUs of an export; returns the system (bridge 0,
-/// train 1) ready for stepping at t = 0.
-pub fn build_system(
-    bridge_fmu: &Path,
-    train_fmu: &Path,
-    stop: f64,
-) -> Result<System, Box<dyn std::error::Error>> {
-    let bfmu = Fmu::load(bridge_fmu)?;
-    let tfmu = Fmu::load(train_fmu)?;
+/// Load, instantiate and initialise both FMUs of an export, wired along
+/// [`crate::export::connections`]; returns the system (bridge 0, train 1) ready for
+/// stepping at t = 0.
+pub fn build_system(exported: &Exported, stop: f64) -> Result<System, Box<dyn std::error::Error>> {
+    let bfmu = Fmu::load(&exported.bridge)?;
+    let tfmu = Fmu::load(&exported.train)?;
     let opts = |name: &str| InstantiateOptions {
         instance_name: Some(name.to_string()),
         visible: false,
@@ -113,27 +110,29 @@ pub fn build_system(
     let mut b = bfmu.instantiate(&opts("bridge"))?;
     let mut t = tfmu.instantiate(&opts("train"))?;
     let (bm, tm) = (vr_map(&bfmu), vr_map(&tfmu));
-    let mut connections = Vec::new();
-    let n_wheelsets = bfmu
-        .model_description()
-        .model_variables
-        .iter()
-        .filter(|v| v.name.ends_with("].F_z"))
-        .count();
-    for (from, fv, to, tv) in crate::export::connections(n_wheelsets) {
-        let (fi, fm) = if from == "bridge" { (0, &bm) } else { (1, &tm) };
-        let (ti, tmap) = if to == "bridge" { (0, &bm) } else { (1, &tm) };
-        let from_vr = *fm
-            .get(&fv)
-            .ok_or_else(|| format!("{from}.fmu has no variable {fv}"))?;
-        let to_vr = *tmap
-            .get(&tv)
-            .ok_or_else(|| format!("{to}.fmu has no variable {tv}"))?;
+    let links = crate::export::connections(&exported.bridge_layout, &exported.train_layout)?;
+    let mut connections = Vec::with_capacity(links.len());
+    for link in links {
+        // The packaged descriptions must say what the layouts say.
+        for (side, vr) in [(link.from, link.from_vr), (link.to, link.to_vr)] {
+            let map = if side == Side::Bridge { &bm } else { &tm };
+            match map.get(&link.name) {
+                Some(&declared) if declared == vr => {}
+                declared => {
+                    return Err(format!(
+                        "{}.fmu: {} has value reference {declared:?}, its layout says {vr}",
+                        side.name(),
+                        link.name
+                    )
+                    .into())
+                }
+            }
+        }
         connections.push(crate::coupling::Connection {
-            from: fi,
-            from_vr,
-            to: ti,
-            to_vr,
+            from: link.from as usize,
+            from_vr: link.from_vr,
+            to: link.to as usize,
+            to_vr: link.to_vr,
         });
     }
     for inst in [&mut b, &mut t] {
@@ -179,22 +178,15 @@ pub fn run_cosim<W: std::io::Write>(
     let out = rec_dir(scenario);
     let exported = crate::export::export_with(model, &out, false)?;
     let t_end = model.t_end();
-    let mut sys = build_system(&exported.bridge, &exported.train, t_end)?;
+    let mut sys = build_system(&exported, t_end)?;
     let cfg = &scenario.coupling;
     let mut scheme = build_scheme(cfg);
     scheme.initialize(&mut sys)?;
-    let nw = model.train.n_wheelsets();
-    let nv = model.train.vehicles.len();
-    let np = model.probes.len();
-    let probe_vrs: Vec<u32> = (0..np)
-        .flat_map(|p| (0..5).map(move |k| bridge_vr::probe_output(nw, p, k)))
-        .collect();
-    let force_vrs: Vec<u32> = (0..nw)
-        .flat_map(|w| [2, 3, 4].map(|k| train_vr::wheel_output(nw, w, k)))
-        .collect();
-    let veh_vrs: Vec<u32> = (0..nv)
-        .flat_map(|i| [0, 1].map(|k| train_vr::vehicle_output(nw, i, k)))
-        .collect();
+    let (bl, tl) = (&exported.bridge_layout, &exported.train_layout);
+    let nv = tl.n_vehicles();
+    let probe_vrs = bl.probe_out.vrs(&[0, 1, 2, 3, 4]);
+    let force_vrs = tl.wheel_out.vrs(&[wheel::F_Y, wheel::M_X, wheel::F_Z]);
+    let veh_vrs = tl.vehicle_out.vrs(&[0, 1]);
     let layout = rec.layout.clone();
     let sample_at = |sys: &mut System, t: f64| -> Result<Sample, CouplingError> {
         let mut pv = vec![0.0; probe_vrs.len()];
@@ -205,16 +197,7 @@ pub fn run_cosim<W: std::io::Write>(
         sys.participants[1].get_real(&veh_vrs, &mut vv)?;
         Ok(Sample {
             t,
-            probes: pv
-                .chunks(5)
-                .map(|c| ProbeValues {
-                    y: c[0],
-                    z: c[1],
-                    theta: c[2],
-                    y_dd: c[3],
-                    z_dd: c[4],
-                })
-                .collect(),
+            probes: pv.chunks(bl.probe_out.width()).map(probe_values).collect(),
             vehicles: (0..nv)
                 .map(|i| {
                     let has = layout.vehicles[i];

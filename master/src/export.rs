@@ -10,6 +10,8 @@
 
 use crate::model::Model;
 use crate::package::write_fmu;
+use fmu_bridge::layout::BridgeLayout;
+use fmu_train::layout::TrainLayout;
 use model_description::builder::{ModelDescriptionBuilder, RealBuilder};
 use model_description::{
     Causality as MdCausality, DefaultExperiment, Initial, Variability, VariableNamingConvention,
@@ -17,7 +19,7 @@ use model_description::{
 use std::path::{Path, PathBuf};
 use tbi_dynamics::interface::{
     BridgeResources, Causality, ProbeSpec, TrainResources, Var, BRIDGE_ID, BRIDGE_RESOURCE,
-    BUILD_ID, RAIL_CHANNELS, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WHEEL_CHANNELS,
+    BUILD_ID, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE,
 };
 
 /// Command-line arguments of `tbi export`.
@@ -40,6 +42,8 @@ pub struct Exported {
     pub train_guid: String,
     pub bridge_resources: BridgeResources,
     pub train_resources: TrainResources,
+    pub bridge_layout: BridgeLayout,
+    pub train_layout: TrainLayout,
 }
 
 pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -167,6 +171,7 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         n_wheelsets: model.train.n_wheelsets(),
         has_track_record: track_csv.is_some(),
     };
+    let bridge_layout = BridgeLayout::of(&bridge_res);
     let bridge_json = serde_json::to_vec_pretty(&bridge_res).map_err(|e| e.to_string())?;
     let mut bridge_bytes = bridge_json.clone();
     let mut bridge_files = vec![(BRIDGE_RESOURCE.to_string(), bridge_json)];
@@ -180,6 +185,7 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         x0_m: model.train.x0_m,
         hunting: model.hunting.clone(),
     };
+    let train_layout = TrainLayout::of(&train_res);
     let train_json = serde_json::to_vec_pretty(&train_res).map_err(|e| e.to_string())?;
     let bridge_guid = fmi_export::guid(BRIDGE_ID, BUILD_ID, &bridge_bytes);
     let train_guid = fmi_export::guid(TRAIN_ID, BUILD_ID, &train_json);
@@ -192,12 +198,12 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         BRIDGE_ID,
         &libs.join("libbridge.so"),
     ) {
-        let what = "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
+        let what = fmu_bridge::layout::DESCRIPTION;
         let xml = description_xml(
             BRIDGE_ID,
             &bridge_guid,
             what,
-            &bridge_res.variables(),
+            &bridge_layout.variables(&bridge_res),
             stop,
             model.dt,
         )?;
@@ -218,12 +224,12 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         TRAIN_ID,
         &libs.join("libtrain.so"),
     ) {
-        let what = "Train of linear vehicles (moving forces, sprung masses or 27-DOF coaches): rail motion in, wheel forces out";
+        let what = fmu_train::layout::DESCRIPTION;
         let xml = description_xml(
             TRAIN_ID,
             &train_guid,
             what,
-            &train_res.variables(),
+            &train_layout.variables(&train_res),
             stop,
             model.dt,
         )?;
@@ -244,8 +250,8 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
             &ssp,
             &bridge_path,
             &train_path,
-            &bridge_res,
-            &train_res,
+            (&bridge_layout, &bridge_res),
+            (&train_layout, &train_res),
             stop,
         )?;
     }
@@ -257,6 +263,8 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         train_guid,
         bridge_resources: bridge_res,
         train_resources: train_res,
+        bridge_layout,
+        train_layout,
     })
 }
 
@@ -294,28 +302,68 @@ fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
     std::fs::read(so).map(|cur| cur == packed).unwrap_or(false)
 }
 
-/// The connections of the coupled system as (from FMU, variable, to FMU, variable).
-pub fn connections(n_wheelsets: usize) -> Vec<(&'static str, String, &'static str, String)> {
-    let mut c = Vec::new();
-    for w in 1..=n_wheelsets {
-        for (ch, ..) in WHEEL_CHANNELS {
-            c.push((
-                "train",
-                format!("ws[{w}].{ch}"),
-                "bridge",
-                format!("ws[{w}].{ch}"),
-            ));
-        }
-        for (ch, ..) in RAIL_CHANNELS {
-            c.push((
-                "bridge",
-                format!("ws[{w}].{ch}"),
-                "train",
-                format!("ws[{w}].{ch}"),
-            ));
+/// The two FMUs of the coupled system, in the order of [`crate::coupling::System`]'s
+/// participants.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Bridge = 0,
+    Train = 1,
+}
+
+impl Side {
+    /// The SSP component name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Bridge => "bridge",
+            Side::Train => "train",
         }
     }
-    c
+}
+
+/// One connection: an output of one FMU feeds an input of the other; the variable has the
+/// same name on both sides.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Link {
+    pub from: Side,
+    pub from_vr: u32,
+    pub to: Side,
+    pub to_vr: u32,
+    pub name: String,
+}
+
+/// The connections of the coupled system, from the two layouts: per wheelset, its
+/// [`WHEEL_CHANNELS`](tbi_dynamics::interface::WHEEL_CHANNELS) train → bridge, then its
+/// [`RAIL_CHANNELS`](tbi_dynamics::interface::RAIL_CHANNELS) bridge → train.
+pub fn connections(b: &BridgeLayout, t: &TrainLayout) -> Result<Vec<Link>, String> {
+    if b.n_wheelsets() != t.n_wheelsets() {
+        return Err(format!(
+            "the bridge FMU has {} wheelsets, the train FMU {}",
+            b.n_wheelsets(),
+            t.n_wheelsets()
+        ));
+    }
+    let mut c = Vec::new();
+    for w in 0..b.n_wheelsets() {
+        for k in 0..b.wheel_in.width() {
+            c.push(Link {
+                from: Side::Train,
+                from_vr: t.wheel_out.vr(w, k),
+                to: Side::Bridge,
+                to_vr: b.wheel_in.vr(w, k),
+                name: b.wheel_in.name(w, k),
+            });
+        }
+        for k in 0..b.rail_out.width() {
+            c.push(Link {
+                from: Side::Bridge,
+                from_vr: b.rail_out.vr(w, k),
+                to: Side::Train,
+                to_vr: t.rail_in.vr(w, k),
+                name: b.rail_out.name(w, k),
+            });
+        }
+    }
+    Ok(c)
 }
 
 fn xml_escape(s: &str) -> String {
@@ -329,8 +377,8 @@ fn write_ssp(
     path: &Path,
     bridge: &Path,
     train: &Path,
-    b: &BridgeResources,
-    t: &TrainResources,
+    (bl, b): (&BridgeLayout, &BridgeResources),
+    (tl, t): (&TrainLayout, &TrainResources),
     stop: f64,
 ) -> Result<(), String> {
     let connectors = |vars: Vec<Var>| -> String {
@@ -343,11 +391,12 @@ fn write_ssp(
             .collect()
     };
     let mut conns = String::new();
-    for (sf, sv, tf, tv) in connections(b.n_wheelsets) {
+    for link in connections(bl, tl)? {
+        let name = xml_escape(&link.name);
         conns.push_str(&format!(
-            "      <ssd:Connection startElement=\"{sf}\" startConnector=\"{}\" endElement=\"{tf}\" endConnector=\"{}\"/>\n",
-            xml_escape(&sv),
-            xml_escape(&tv)
+            "      <ssd:Connection startElement=\"{}\" startConnector=\"{name}\" endElement=\"{}\" endConnector=\"{name}\"/>\n",
+            link.from.name(),
+            link.to.name(),
         ));
     }
     let ssd = format!(
@@ -370,8 +419,8 @@ fn write_ssp(
   <ssd:DefaultExperiment startTime="0" stopTime="{stop}"/>
 </ssd:SystemStructureDescription>
 "#,
-        connectors(b.variables()),
-        connectors(t.variables()),
+        connectors(bl.variables(b)),
+        connectors(tl.variables(t)),
         conns
     );
     let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;

@@ -1,9 +1,9 @@
-//! The `tbi` tool: scenarios, solvers, FMI import and the co-simulation master.
+//! The `tbi` tool: scenarios, solvers and the co-simulation master (FMI import is the
+//! `fmi-import` crate).
 pub mod bench;
 pub mod cosim;
 pub mod coupling;
 pub mod export;
-pub mod fmi;
 pub mod model;
 pub mod modes;
 pub mod package;

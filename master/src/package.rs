@@ -157,9 +157,9 @@ fn write_zip(
     zip.write_all(model_description_xml.as_bytes())?;
 
     zip.add_directory("binaries/", dir_options)?;
-    zip.add_directory(format!("binaries/{}/", crate::fmi::PLATFORM), dir_options)?;
+    zip.add_directory(format!("binaries/{}/", fmi_import::PLATFORM), dir_options)?;
     zip.start_file(
-        format!("binaries/{}/{model_identifier}.so", crate::fmi::PLATFORM),
+        format!("binaries/{}/{model_identifier}.so", fmi_import::PLATFORM),
         library_options,
     )?;
     zip.write_all(library)?;
@@ -196,7 +196,7 @@ fn write_zip(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fmi::archive::UnpackedDir;
+    use fmi_import::archive::UnpackedDir;
     use std::io::Read;
 
     const XML: &str = r#"<?xml version="1.0" encoding="UTF-8"?>

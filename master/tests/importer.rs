@@ -3,11 +3,11 @@
 
 mod fmu_support;
 
-use fmu_support::*;
-use std::sync::Arc;
-use tbi::fmi::{
+use fmi_import::{
     CallStatus, FmiError, Fmu, Instance, InstantiateOptions, Status, StatusKind, StepResult,
 };
+use fmu_support::*;
+use std::sync::Arc;
 
 const K: u32 = 0;
 const D: u32 = 1;
@@ -64,7 +64,7 @@ fn load_reports_the_description_library_and_resources() {
         "{uri}"
     );
     assert_eq!(
-        tbi::fmi::file_uri(&fmu.unpacked_dir().join("resources")).unwrap(),
+        fmi_import::file_uri(&fmu.unpacked_dir().join("resources")).unwrap(),
         uri
     );
     assert!(fmu.unpacked_dir().join("resources/gain.txt").is_file());

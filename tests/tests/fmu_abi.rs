@@ -1,15 +1,15 @@
 //! The exported FMUs through their C ABI: FMU state (get/set and serialize/deserialize must
-//! continue bit-identically), misuse (the `fmi_export::harness` checks, wrong GUID, missing
+//! continue bit-identically), misuse (the `fmi_import::harness` checks, wrong GUID, missing
 //! resources, non-finite inputs) and the shared objects' load-time dependencies.
 
 mod common;
 
 use common::{elf, scenarios, Export, Unpacked};
-use fmi_export::harness::{run as run_harness, HarnessConfig};
+use fmi_import::harness::{run as run_harness, HarnessConfig};
+use fmi_import::{CallStatus, FmiError, Fmu, Instance, InstantiateOptions, Status};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
-use tbi::fmi::{CallStatus, FmiError, Fmu, Instance, InstantiateOptions, Status};
 
 /// One export of the two-coach scenario (irregular track, torsion), shared by the tests of
 /// this binary.

@@ -10,9 +10,9 @@ mod common;
 
 use common::reference::{analytic_modes, closed_form, truncated_series, truncation_bounds};
 use common::scenarios::{self, *};
+use fmi_import::{Fmu, Instance, InstantiateOptions};
 use std::f64::consts::PI;
 use std::sync::Arc;
-use tbi::fmi::{Fmu, Instance, InstantiateOptions};
 use tbi_dynamics::bridge::Shapes;
 use tbi_dynamics::interface::BridgeResources;
 

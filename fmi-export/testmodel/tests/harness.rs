@@ -2,7 +2,7 @@
 
 mod common;
 
-use fmi_export::harness::{run, HarnessConfig};
+use fmi_import::harness::{run, HarnessConfig};
 use testmodel::vr;
 
 fn config() -> HarnessConfig {

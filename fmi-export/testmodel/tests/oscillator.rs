@@ -6,13 +6,13 @@ mod common;
 use std::ffi::CString;
 use std::ptr;
 
-use fmi_export::harness::{Fmi2Library, LogCapture, LogRecord};
 use fmi_export::types::*;
+use fmi_import::harness::{Library, LogCapture, LogMessage};
 use testmodel::vr;
 
 /// One instance with captured logging.
 struct Fmu {
-    lib: Fmi2Library,
+    lib: Library,
     log: LogCapture,
     c: fmi2Component,
     t: f64,
@@ -24,7 +24,7 @@ impl Fmu {
     }
 
     fn with_logging(logging_on: bool) -> Fmu {
-        let lib = Fmi2Library::load(&common::library()).expect("load");
+        let lib = Library::load(&common::library()).expect("load");
         let log = LogCapture::new();
         let callbacks = log.callbacks();
         let guid = CString::new(common::guid()).unwrap();
@@ -87,11 +87,11 @@ impl Fmu {
         s
     }
 
-    fn errors(&self) -> Vec<LogRecord> {
+    fn errors(&self) -> Vec<LogMessage> {
         self.log
             .take()
             .into_iter()
-            .filter(|r| r.status != fmi2OK)
+            .filter(|r| r.status != Some(Status::Ok))
             .collect()
     }
 }
@@ -225,7 +225,7 @@ fn a_discarded_step_reports_terminated_and_keeps_the_last_good_time() {
     let log = fmu.errors();
     assert!(
         log.iter()
-            .any(|r| r.status == fmi2Discard && r.message.contains("x_max")),
+            .any(|r| r.status == Some(Status::Discard) && r.message.contains("x_max")),
         "{log:?}"
     );
 
@@ -344,7 +344,7 @@ fn instantiation_is_logged_only_with_debug_logging_and_model_categories_are_know
     let warn = quiet.log.take();
     assert!(warn
         .iter()
-        .any(|r| r.status == fmi2Warning && r.message.contains("logEvnets")));
+        .any(|r| r.status == Some(Status::Warning) && r.message.contains("logEvnets")));
     quiet.enter();
     assert!(quiet
         .log
@@ -355,7 +355,7 @@ fn instantiation_is_logged_only_with_debug_logging_and_model_categories_are_know
 
 #[test]
 fn resource_uri_spellings_are_accepted_and_guid_follows_the_resources() {
-    let lib = Fmi2Library::load(&common::library()).unwrap();
+    let lib = Library::load(&common::library()).unwrap();
     let log = LogCapture::new();
     let callbacks = log.callbacks();
     let guid = CString::new(common::guid()).unwrap();

@@ -4,8 +4,9 @@ use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
-use super::{Check, Fmi2Library, HarnessConfig, LogCapture, LogRecord, Report};
-use crate::types::*;
+use super::{Check, HarnessConfig, Library, LogCapture, LogMessage, Report};
+use crate::library::LoadError;
+use fmi2::types::*;
 
 type Outcome = Result<(), String>;
 /// Brings a fresh instance into the state a check needs.
@@ -64,7 +65,7 @@ fn expect_ok(got: fmi2Status, what: &str) -> Outcome {
 }
 
 /// An error (or worse) message must have been logged.
-fn expect_logged_error(records: &[LogRecord], what: &str) -> Outcome {
+fn expect_logged_error(records: &[LogMessage], what: &str) -> Outcome {
     match records.iter().find(|r| r.is_error()) {
         Some(r) if !r.message.trim().is_empty() => Ok(()),
         Some(_) => Err(format!("{what}: an empty error message was logged")),
@@ -75,7 +76,7 @@ fn expect_logged_error(records: &[LogRecord], what: &str) -> Outcome {
     }
 }
 
-fn describe(records: &[LogRecord]) -> String {
+fn describe(records: &[LogMessage]) -> String {
     records
         .iter()
         .map(ToString::to_string)
@@ -86,7 +87,7 @@ fn describe(records: &[LogRecord]) -> String {
 /// Everything the checks share.
 struct Ctx<'a> {
     cfg: &'a HarnessConfig,
-    lib: &'a Fmi2Library,
+    lib: &'a Library,
     guid: CString,
     uri: CString,
 }
@@ -174,7 +175,7 @@ impl Ctx<'_> {
 
 /// One FMU instance driven like a master does; freed on drop (before its logger).
 struct Slave<'a> {
-    lib: &'a Fmi2Library,
+    lib: &'a Library,
     cfg: &'a HarnessConfig,
     c: fmi2Component,
     /// The master's time.
@@ -334,7 +335,10 @@ impl Slave<'_> {
 pub(super) fn run(cfg: &HarnessConfig) -> Report {
     let mut ck = Checker { checks: Vec::new() };
 
-    let lib = match Fmi2Library::load(&cfg.library) {
+    let lib = match Library::load(&cfg.library).map_err(|e| match e {
+        LoadError::Open(why) => format!("cannot load {}: {why}", cfg.library.display()),
+        missing => format!("{} {missing}", cfg.library.display()),
+    }) {
         Ok(lib) => {
             ck.check("exports all 34 fmi2 functions", || Ok(()));
             lib
@@ -344,7 +348,7 @@ pub(super) fn run(cfg: &HarnessConfig) -> Report {
             return Report { checks: ck.checks };
         }
     };
-    let uri = match crate::uri::file_uri(&cfg.resources) {
+    let uri = match fmi2::uri::file_uri(&cfg.resources) {
         Ok(u) => u,
         Err(e) => {
             ck.check("resources folder is an absolute path", || Err(e));
@@ -470,7 +474,7 @@ fn instantiate_checks(ck: &mut Checker, ctx: &Ctx) {
                 .cfg
                 .resources
                 .join(format!("no-such-folder-{}", std::process::id()));
-            let uri = crate::uri::file_uri(&missing)?;
+            let uri = fmi2::uri::file_uri(&missing)?;
             let mut a = ctx.valid_args();
             a.uri = Some(CString::new(uri).map_err(|e| e.to_string())?);
             refused(a, true)
@@ -533,8 +537,8 @@ fn instantiate_checks(ck: &mut Checker, ctx: &Ctx) {
         )?;
         let logged = s.log.take();
         match logged.iter().find(|r| r.is_error()) {
-            Some(r) if r.instance_name == "copied-name" => Ok(()),
-            Some(r) => Err(format!("logged with instance name '{}'", r.instance_name)),
+            Some(r) if r.instance == "copied-name" => Ok(()),
+            Some(r) => Err(format!("logged with instance name '{}'", r.instance)),
             None => Err("no error logged".to_owned()),
         }
     });
@@ -966,7 +970,7 @@ fn non_finite_input_checks(ck: &mut Checker, ctx: &Ctx) {
                     expect(s.set(vr, value), &[Status::Error, Status::Discard], "fmi2SetReal")?;
                     let log = s.log.take();
                     let hit = log.iter().find(|r| {
-                        matches!(r.status(), Some(Status::Discard | Status::Error | Status::Fatal))
+                        matches!(r.status, Some(Status::Discard | Status::Error | Status::Fatal))
                     });
                     match hit {
                         Some(r) if r.message.contains(&vr.to_string()) => Ok(()),
@@ -1315,7 +1319,7 @@ fn status_and_logging_checks(ck: &mut Checker, ctx: &Ctx) {
                 .log
                 .take()
                 .into_iter()
-                .filter(|r| r.status == fmi2OK)
+                .filter(|r| r.status == Some(Status::Ok))
                 .count();
             if ok_messages != 0 {
                 return Err(format!(
@@ -1332,7 +1336,7 @@ fn status_and_logging_checks(ck: &mut Checker, ctx: &Ctx) {
             let mut loud_args = ctx.valid_args();
             loud_args.logging_on = true;
             let loud = ctx.slave_with(&loud_args)?;
-            if loud.log.take().iter().any(|r| r.status == fmi2OK) {
+            if loud.log.take().iter().any(|r| r.status == Some(Status::Ok)) {
                 Ok(())
             } else {
                 Err("nothing was logged at instantiation with loggingOn = true".to_owned())

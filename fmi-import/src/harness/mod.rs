@@ -1,7 +1,6 @@
-//! A C-ABI conformance and misuse harness for FMI 2.0 Co-Simulation shared objects
-//! (feature `harness`).
+//! A C-ABI conformance and misuse harness for FMI 2.0 Co-Simulation shared objects.
 //!
-//! [`run`] loads an FMU binary with `libloading`, drives it through the C functions
+//! [`run`] loads an FMU binary with [`Library`], drives it through the C functions
 //! exactly as an importer would, and returns a [`Report`] of named checks. It covers what
 //! an exporter must get right (see `shared/reference/fmi2.md`) and the contract of this
 //! crate:
@@ -24,7 +23,7 @@
 //!   fresh instance continue bit-identically; foreign, damaged or wrongly sized bytes are
 //!   refused; `fmi2Reset` reproduces a fresh run; two instances do not interfere;
 //! * status functions and debug-logging control behave as documented in
-//!   [`crate::logging`].
+//!   `fmi_export::logging`.
 //!
 //! The harness only needs one input and one output value reference: it sets the input to
 //! finite values near [`HarnessConfig::input_value`] and compares outputs bit for bit.
@@ -34,7 +33,7 @@
 //! # Use from a model crate's tests
 //!
 //! ```ignore
-//! use fmi_export::harness::{run, HarnessConfig};
+//! use fmi_import::harness::{run, HarnessConfig};
 //!
 //! #[test]
 //! fn bridge_fmu_passes_the_harness() {
@@ -51,18 +50,16 @@
 //! }
 //! ```
 //!
-//! [`LogCapture`] and [`Fmi2Library`] are public so tests can make their own calls with
+//! [`LogCapture`] and [`Library`] are re-exported so tests can make their own calls with
 //! captured logging (for a model's specific behaviour).
 
 mod checks;
-mod library;
-mod log;
 
 use std::fmt;
 use std::path::PathBuf;
 
-pub use library::Fmi2Library;
-pub use log::{LogCapture, LogEnv, LogRecord};
+pub use crate::library::Library;
+pub use fmi2::logger::{LogCapture, LogMessage};
 
 /// What the harness needs to know about the FMU under test.
 #[derive(Debug, Clone)]

@@ -1,0 +1,178 @@
+//! The bridge FMU's variables, described once: value references, names, units,
+//! descriptions, start values and output-buffer slots, for the model, the master and the
+//! `modelDescription.xml` writer.
+//!
+//! | block | causality | channels | value references |
+//! |---|---|---|---|
+//! | `ws[i]` | input | [`WHEEL_CHANNELS`] (position, speed, force of wheelset i on the rail) | from 0 |
+//! | `ws[i]` | output | [`RAIL_CHANNELS`] (rail motion under wheelset i, deck plus irregularity) | after the inputs |
+//! | `probe[k]` | output | [`PROBE_CHANNELS`] (deck response at probe k) | after the rail motion |
+
+use tbi_dynamics::interface::{
+    Block, Blocks, BridgeResources, Channel, Var, RAIL_CHANNELS, WHEEL_CHANNELS,
+};
+use tbi_dynamics::solver::partitioned::ProbeValues;
+
+/// `<fmiModelDescription description>` of the bridge FMU.
+pub const DESCRIPTION: &str =
+    "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
+
+/// Start of `ws[i].x`, m: a wheelset that has not arrived is far before the deck.
+pub const PARKED_X: f64 = -1.0e6;
+
+/// Deck response channels at a probe, in value-reference order.
+pub const PROBE_CHANNELS: [Channel; 5] = [
+    Channel {
+        name: "y",
+        unit: "m",
+        description: "deck lateral displacement",
+    },
+    Channel {
+        name: "z",
+        unit: "m",
+        description: "deck vertical displacement (+ down)",
+    },
+    Channel {
+        name: "theta",
+        unit: "rad",
+        description: "deck torsion",
+    },
+    Channel {
+        name: "y_dd",
+        unit: "m/s2",
+        description: "deck lateral acceleration",
+    },
+    Channel {
+        name: "z_dd",
+        unit: "m/s2",
+        description: "deck vertical acceleration",
+    },
+];
+
+/// A probe's values in [`PROBE_CHANNELS`] order.
+pub fn probe_channels(v: &ProbeValues) -> [f64; 5] {
+    [v.y, v.z, v.theta, v.y_dd, v.z_dd]
+}
+
+/// A probe's values from [`PROBE_CHANNELS`] order.
+pub fn probe_values(c: &[f64]) -> ProbeValues {
+    ProbeValues {
+        y: c[0],
+        z: c[1],
+        theta: c[2],
+        y_dd: c[3],
+        z_dd: c[4],
+    }
+}
+
+/// A bridge FMU variable, decoded from its value reference.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BridgeVar {
+    /// Channel `k` of [`WHEEL_CHANNELS`] of wheelset `w` (0-based), an input.
+    Wheel { w: usize, k: usize },
+    /// An output, by its slot in the output buffer.
+    Output(usize),
+}
+
+/// The bridge FMU's blocks for a number of wheelsets and probes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BridgeLayout {
+    pub wheel_in: Block,
+    pub rail_out: Block,
+    pub probe_out: Block,
+    n_outputs: usize,
+}
+
+impl BridgeLayout {
+    pub fn new(n_wheelsets: usize, n_probes: usize) -> BridgeLayout {
+        let mut b = Blocks::default();
+        let wheel_in = b.input("ws", &WHEEL_CHANNELS, n_wheelsets);
+        let rail_out = b.output("ws", &RAIL_CHANNELS, n_wheelsets);
+        let probe_out = b.output("probe", &PROBE_CHANNELS, n_probes);
+        BridgeLayout {
+            wheel_in,
+            rail_out,
+            probe_out,
+            n_outputs: b.n_slots(),
+        }
+    }
+
+    /// The layout of the FMU with these resources.
+    pub fn of(res: &BridgeResources) -> BridgeLayout {
+        BridgeLayout::new(res.n_wheelsets, res.probes.len())
+    }
+
+    pub fn n_wheelsets(&self) -> usize {
+        self.wheel_in.count
+    }
+
+    /// Size of the output buffer.
+    pub fn n_outputs(&self) -> usize {
+        self.n_outputs
+    }
+
+    pub fn decode(&self, vr: u32) -> Option<BridgeVar> {
+        if let Some((w, k)) = self.wheel_in.decode(vr) {
+            return Some(BridgeVar::Wheel { w, k });
+        }
+        [self.rail_out, self.probe_out]
+            .iter()
+            .find_map(|b| b.decode(vr).map(|(i, k)| BridgeVar::Output(b.slot(i, k))))
+    }
+
+    /// All variables in value-reference order (what `modelDescription.xml` lists).
+    pub fn variables(&self, res: &BridgeResources) -> Vec<Var> {
+        let mut v = self.wheel_in.variables(
+            |w, c| format!("{}, wheelset {}", c.description, w + 1),
+            |_, k| Some(if k == 0 { PARKED_X } else { 0.0 }),
+        );
+        v.extend(self.rail_out.variables(
+            |w, c| {
+                format!(
+                    "{} under wheelset {} (deck plus irregularity)",
+                    c.description,
+                    w + 1
+                )
+            },
+            |_, _| None,
+        ));
+        v.extend(self.probe_out.variables(
+            |p, c| {
+                let probe = &res.probes[p];
+                format!(
+                    "{} at probe {} (x = {} m)",
+                    c.description, probe.name, probe.x_m
+                )
+            },
+            |_, _| None,
+        ));
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_variable_decodes_to_itself_and_outputs_fill_the_buffer() {
+        let l = BridgeLayout::new(7, 3);
+        assert_eq!(l.n_outputs(), 9 * 7 + 5 * 3);
+        let mut slots = Vec::new();
+        for (i, b) in [l.wheel_in, l.rail_out, l.probe_out].iter().enumerate() {
+            for n in 0..b.count {
+                for k in 0..b.width() {
+                    match l.decode(b.vr(n, k)) {
+                        Some(BridgeVar::Wheel { w, k: kk }) => {
+                            assert_eq!((i, w, kk), (0, n, k))
+                        }
+                        Some(BridgeVar::Output(s)) => slots.push(s),
+                        None => panic!("{} does not decode", b.name(n, k)),
+                    }
+                }
+            }
+        }
+        assert_eq!(slots, (0..l.n_outputs()).collect::<Vec<_>>());
+        assert_eq!(l.decode((14 * 7 + 5 * 3) as u32), None);
+    }
+}

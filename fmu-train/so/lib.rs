@@ -1,0 +1,3 @@
+//! `libtrain.so`: the train FMU's C symbols. The model and its variable layout are the
+//! `fmu-train` library, which the master links too (without these symbols).
+fmi_export::export_fmi2!(fmu_train::TrainFmu, "train");
