@@ -21,7 +21,7 @@
 
 use crate::bridge::ModalBridge;
 use crate::solver::partitioned::WheelInput;
-use crate::train::{Train, TrainVehicle};
+use crate::train::{Speed, Train, TrainVehicle};
 use crate::vehicle::coach::CoachParams;
 use crate::vehicle::simple::{moving_force, sprung_mass, MovingForceAxle, SprungMassAxle};
 use nalgebra::Vector3;
@@ -358,24 +358,6 @@ impl TrainSpec {
             TrainSpec::Coaches { count, .. } => *count,
         }
     }
-
-    /// Build the train.
-    pub fn build(
-        &self,
-        speed_m_s: f64,
-        x0_m: f64,
-        hunting: &HuntingParams,
-    ) -> Result<Train, String> {
-        let vehicles = self.vehicles()?;
-        let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
-        let hunting = WheelHunting::new(hunting, n).map_err(|e| format!("hunting: {e}"))?;
-        Ok(Train {
-            vehicles,
-            speed_m_s,
-            x0_m,
-            hunting,
-        })
-    }
 }
 
 /// Everything the train FMU reads from its resources (all of it can be changed through
@@ -384,10 +366,28 @@ impl TrainSpec {
 pub struct TrainResources {
     pub spec: TrainSpec,
     /// Speed, m/s.
-    pub speed_m_s: f64,
-    /// First-axle position at t = 0, m.
+    pub speed_m_s: Speed,
+    /// First-axle position at the start time, m.
     pub x0_m: f64,
     pub hunting: HuntingParams,
+}
+
+impl TrainResources {
+    /// The train, with its first axle at `x0_m` at `start_time` (s): the one place a
+    /// [`Train`] is built from its description, for the monolithic solver and in the train
+    /// FMU.
+    pub fn build(&self, start_time: f64) -> Result<Train, String> {
+        let vehicles = self.spec.vehicles()?;
+        let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
+        let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
+        let speed_m_s = self.speed_m_s.m_s();
+        Ok(Train {
+            vehicles,
+            speed_m_s,
+            x0_m: self.x0_m - speed_m_s * start_time,
+            hunting,
+        })
+    }
 }
 
 /// Build identifier that goes into the FMUs' GUIDs (with the bytes of their resources).

@@ -16,7 +16,10 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod bridge;
-pub mod error;
+/// Input errors (defined with the modes file format, which needs them first).
+pub mod error {
+    pub use tbi_modes::error::*;
+}
 pub mod interface;
 pub mod newmark;
 pub mod response;

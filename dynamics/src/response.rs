@@ -20,7 +20,7 @@
 use crate::solver::partitioned::ProbeValues;
 use crate::vehicle::WheelLoads;
 use nalgebra::Vector3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::io::Write;
 
 /// Everything recorded at one output time.
@@ -75,7 +75,7 @@ impl Layout {
 }
 
 /// Maxima of one probe.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ProbeMax {
     pub x_m: f64,
     pub vertical_displacement_max_m: f64,
@@ -85,7 +85,7 @@ pub struct ProbeMax {
 }
 
 /// Vehicle maxima over all vehicles.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct VehicleMax {
     pub vertical_acceleration_max_m_s2: f64,
     pub lateral_acceleration_max_m_s2: f64,
@@ -96,7 +96,7 @@ pub struct VehicleMax {
 }
 
 /// Safety maxima (absolute values) over all wheelsets and times.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct SafetyMax {
     /// Wheelset form Q/P.
     pub derail_factor_max: f64,

@@ -5,7 +5,49 @@
 //! `t = 0`, so `x_w(t) = x0 + v t − offset_w`.
 
 use crate::vehicle::LinearVehicle;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+
+/// A train speed, m/s: finite and > 0. [`Speed::from_m_s`] is the one place a speed is
+/// checked; the scenario, the command line and the train FMU's `speed` parameter all go
+/// through it. In JSON it is a bare number.
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Serialize, Deserialize)]
+#[serde(try_from = "f64", into = "f64")]
+pub struct Speed(f64);
+
+/// Why a number is not a [`Speed`].
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("must be a positive finite number")]
+pub struct SpeedError;
+
+impl Speed {
+    /// A speed of `v` m/s.
+    pub fn from_m_s(v: f64) -> Result<Speed, SpeedError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(Speed(v))
+        } else {
+            Err(SpeedError)
+        }
+    }
+
+    /// The speed in m/s.
+    pub fn m_s(self) -> f64 {
+        self.0
+    }
+}
+
+impl TryFrom<f64> for Speed {
+    type Error = SpeedError;
+    fn try_from(v: f64) -> Result<Speed, SpeedError> {
+        Speed::from_m_s(v)
+    }
+}
+
+impl From<Speed> for f64 {
+    fn from(s: Speed) -> f64 {
+        s.0
+    }
+}
 
 /// One vehicle of a train.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,7 +61,7 @@ pub struct TrainVehicle {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Train {
     pub vehicles: Vec<TrainVehicle>,
-    /// Speed v, m/s (> 0).
+    /// Speed v, m/s (> 0; a standing train, v = 0, is allowed in tests of statics).
     pub speed_m_s: f64,
     /// Position of the first axle at t = 0, m.
     pub x0_m: f64,

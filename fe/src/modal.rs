@@ -4,7 +4,7 @@ use crate::bridge::FeModel;
 use crate::error::FeError;
 use crate::structure::{Dof, EigenPairs};
 use serde::{Deserialize, Serialize};
-use tbi_dynamics::bridge::{Mode, ModeSet};
+use tbi_modes::{Mode, ModeSet, FORMAT_TAG};
 
 /// Modes whose deck kinetic-energy share is below this fraction are labelled `C-k`
 /// (cable/tower-dominated).
@@ -116,7 +116,7 @@ impl ModalResult {
 
     fn mode_set<'a>(&self, modes: impl Iterator<Item = &'a ModeInfo>) -> ModeSet {
         ModeSet {
-            format: tbi_dynamics::bridge::modes_file::FORMAT_TAG.to_string(),
+            format: FORMAT_TAG.to_string(),
             x_m: self.deck_x.clone(),
             modes: modes
                 .map(|m| Mode {

@@ -91,7 +91,7 @@ pub fn parameters(res: &TrainResources) -> Vec<Parameter> {
         value,
     };
     let mut list = vec![
-        p("speed", "m/s", "train speed", res.speed_m_s),
+        p("speed", "m/s", "train speed", res.speed_m_s.m_s()),
         p(
             "x0",
             "m",

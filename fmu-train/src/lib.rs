@@ -21,6 +21,7 @@ use tbi_dynamics::interface::{
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::VehicleState;
+use tbi_dynamics::train::Speed;
 use tbi_dynamics::vehicle::WheelLoads;
 
 /// GUID of a train FMU with these resource bytes (`train.json`).
@@ -75,17 +76,8 @@ impl TrainFmu {
     }
 
     fn build_side(&self) -> Result<TrainSide, String> {
-        let r = &self.res;
-        if !(r.speed_m_s.is_finite() && r.speed_m_s >= 0.0) {
-            return Err(format!(
-                "parameter speed = {} must be finite and ≥ 0",
-                r.speed_m_s
-            ));
-        }
-        // the train's position is x0 at the start time
-        let x0 = r.x0_m - r.speed_m_s * self.start_time;
-        let train = r.spec.build(r.speed_m_s, x0, &r.hunting)?;
-        Ok(TrainSide::new(Arc::new(train)))
+        // the train's first axle is at x0 at the start time
+        Ok(TrainSide::new(Arc::new(self.res.build(self.start_time)?)))
     }
 
     fn refresh(&mut self) -> Result<(), String> {
@@ -143,7 +135,10 @@ impl TrainFmu {
             .ok_or_else(|| format!("unknown parameter index {index}"))?
             .name;
         match index {
-            0 => self.res.speed_m_s = value,
+            0 => {
+                self.res.speed_m_s =
+                    Speed::from_m_s(value).map_err(|e| format!("parameter speed = {value}: {e}"))?
+            }
             1 => self.res.x0_m = value,
             2 => self.res.hunting.amplitude_m = value,
             3 => self.res.hunting.wavelength_m = value,

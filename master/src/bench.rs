@@ -10,6 +10,7 @@
 
 use crate::run::run_scenario;
 use crate::scenario::Scenario;
+use crate::summary::Summary;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -65,7 +66,7 @@ reuse_steps = 2
 atol = 1e-8
 "#;
 
-fn timed(s: &Scenario, out: &Path) -> Result<(f64, serde_json::Value), Box<dyn std::error::Error>> {
+fn timed(s: &Scenario, out: &Path) -> Result<(f64, Summary), Box<dyn std::error::Error>> {
     let t = Instant::now();
     let summary = run_scenario(s, out, false)?;
     Ok((t.elapsed().as_secs_f64(), summary))
@@ -75,7 +76,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut s = Scenario::from_toml(BENCH_SCENARIO, "<bench scenario>", Path::new("."))?;
     let sim_time = crate::model::build(&s)?.t_end();
     let (mono_wall, mono) = timed(&s, &args.out.join("monolithic"))?;
-    let steps = mono["steps"].as_u64().unwrap_or(0) as f64;
+    let steps = mono.steps as f64;
     println!("monolithic: 8 coaches, 2000 m bridge, 20 modes, 70 km/h, dt 0.005 s");
     println!(
         "  steps {steps}, wall {mono_wall:.3} s, {:.0} steps/s, simulated/wall = {:.0}",
@@ -84,18 +85,21 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     );
     s.run.solver = crate::scenario::SolverKind::Cosim;
     let (co_wall, co) = timed(&s, &args.out.join("cosim"))?;
+    let coupling = co
+        .coupling
+        .ok_or("the co-simulation run reported no coupling")?;
     println!(
         "co-simulation ({}, {}): wall {co_wall:.3} s, {:.2} iterations/step, cosim/monolithic wall = {:.2}",
-        co["coupling"]["scheme"].as_str().unwrap_or("?"),
-        co["coupling"]["acceleration"].as_str().unwrap_or("?"),
-        co["coupling"]["iterations_mean"].as_f64().unwrap_or(0.0),
+        coupling.scheme,
+        coupling.acceleration,
+        coupling.iterations_mean,
         co_wall / mono_wall
     );
     if args.quick {
         return Ok(());
     }
     let t = Instant::now();
-    let params = crate::suspension::preset_params("tsing-ma")?;
+    let params = crate::suspension::preset_params(crate::scenario::SuspensionPreset::TsingMa);
     let fe = tbi_fe::FeModel::build(&params).map_err(|e| e.to_string())?;
     let assembled = t.elapsed().as_secs_f64();
     fe.modes(50).map_err(|e| e.to_string())?;

@@ -7,16 +7,17 @@
 //! forces. Every step's outputs fill the same [`Sample`] as the monolithic solver.
 
 use crate::coupling::{
-    advance, build_scheme, CouplingError, CouplingStatistics, Participant, StepStatus, System,
+    advance, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, Participant,
+    StepStatus, System,
 };
 use crate::export::{Exported, Side};
 use crate::model::Model;
-use crate::scenario::Scenario;
+use crate::summary::CouplingSummary;
 use fmi_import::{Fmu, FmuState, Instance, InstantiateOptions, StepResult};
 use fmu_bridge::layout::probe_values;
 use model_description::VariableKind;
-use serde_json::json;
 use std::collections::HashMap;
+use std::path::Path;
 use tbi_dynamics::interface::wheel;
 use tbi_dynamics::response::{Recorder, Sample};
 
@@ -168,18 +169,18 @@ pub fn build_system(exported: &Exported, stop: f64) -> Result<System, Box<dyn st
     })
 }
 
-/// Run the scenario by co-simulation; returns the `coupling` part of the summary.
+/// Run the model by co-simulation of its two FMUs (exported into `fmu_dir`); returns the
+/// `coupling` part of the summary.
 pub fn run_cosim<W: std::io::Write>(
-    scenario: &Scenario,
+    cfg: &CouplingConfig,
     model: &Model,
+    fmu_dir: &Path,
     rec: &mut Recorder<W>,
     show_progress: bool,
-) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
-    let out = rec_dir(scenario);
-    let exported = crate::export::export_with(model, &out, false)?;
+) -> Result<CouplingSummary, Box<dyn std::error::Error>> {
+    let exported = crate::export::export_with(model, fmu_dir, false)?;
     let t_end = model.t_end();
     let mut sys = build_system(&exported, t_end)?;
-    let cfg = &scenario.coupling;
     let mut scheme = build_scheme(cfg);
     scheme.initialize(&mut sys)?;
     let (bl, tl) = (&exported.bridge_layout, &exported.train_layout);
@@ -212,7 +213,7 @@ pub fn run_cosim<W: std::io::Write>(
     };
     rec.record(&sample_at(&mut sys, 0.0)?, true)?;
     let mut stats = CouplingStatistics::new();
-    let pb = crate::run::progress(model.steps, show_progress);
+    let pb = crate::progress::bar(model.steps, show_progress);
     let h = model.dt;
     for k in 1..=model.steps {
         let t = (k - 1) as f64 * h;
@@ -229,24 +230,16 @@ pub fn run_cosim<W: std::io::Write>(
         }
     }
     pb.finish_and_clear();
-    Ok(json!({
-        "scheme": cfg.scheme.as_str(),
-        "acceleration": cfg.acceleration.as_str(),
-        "iterations_mean": stats.mean_iterations(),
-        "iterations_max": stats.max_iterations,
-        "steps": stats.steps,
-        "accepted_unconverged": stats.accepted_unconverged,
-        "rejected": stats.rejected,
-        "max_residual": stats.max_residual,
-        "bridge_fmu": exported.bridge.display().to_string(),
-        "train_fmu": exported.train.display().to_string(),
-    }))
-}
-
-fn rec_dir(s: &Scenario) -> std::path::PathBuf {
-    s.fmu_dir.clone().unwrap_or_else(|| {
-        std::path::PathBuf::from("tbi-out")
-            .join(&s.name)
-            .join("fmus")
+    Ok(CouplingSummary {
+        scheme: cfg.scheme.as_str().into(),
+        acceleration: cfg.acceleration.as_str().into(),
+        iterations_mean: stats.mean_iterations(),
+        iterations_max: stats.max_iterations,
+        steps: stats.steps,
+        accepted_unconverged: stats.accepted_unconverged,
+        rejected: stats.rejected,
+        max_residual: stats.max_residual,
+        bridge_fmu: exported.bridge.display().to_string(),
+        train_fmu: exported.train.display().to_string(),
     })
 }

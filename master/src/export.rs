@@ -47,7 +47,7 @@ pub struct Exported {
 }
 
 pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let scenario = crate::run::load_scenario(args.scenario.as_deref(), None, None)?;
+    let scenario = crate::scenario::load(args.scenario.as_deref(), None, None)?;
     let model = crate::model::build(&scenario)?;
     let e = export(&model, &args.out)?;
     println!(
@@ -179,12 +179,7 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
         bridge_bytes.extend_from_slice(csv.as_bytes());
         bridge_files.push((TRACK_RESOURCE.to_string(), csv.into_bytes()));
     }
-    let train_res = TrainResources {
-        spec: model.axles.clone(),
-        speed_m_s: model.train.speed_m_s,
-        x0_m: model.train.x0_m,
-        hunting: model.hunting.clone(),
-    };
+    let train_res = model.train_res.clone();
     let train_layout = TrainLayout::of(&train_res);
     let train_json = serde_json::to_vec_pretty(&train_res).map_err(|e| e.to_string())?;
     let bridge_guid = fmi_export::guid(BRIDGE_ID, BUILD_ID, &bridge_bytes);

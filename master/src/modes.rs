@@ -1,6 +1,5 @@
 //! `tbi modes`: the bridge's modes as a table, a modes file and plots of the first shapes.
 
-use crate::run::load_scenario;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -28,20 +27,12 @@ pub const TSING_MA_TARGETS: [(&str, &str, f64); 6] = [
 
 /// The scenario bridge's modes as a [`ModeSet`] (analytic shapes sampled at 401 nodes).
 pub fn mode_set(s: &crate::scenario::Scenario) -> Result<ModeSet, String> {
-    let b = &s.bridge;
-    match b.kind.as_str() {
-        "suspension" => {
-            crate::suspension::preset_modes(b.preset.as_deref().unwrap_or("tsing-ma"), b.modes)
-        }
-        "modal_file" => {
-            let path = s
-                .base_dir
-                .join(b.path.as_ref().ok_or("bridge.path missing")?);
-            let mut set = ModeSet::read(&path).map_err(|e| e.to_string())?;
-            set.modes.truncate(b.modes);
+    match crate::model::nodal_modes(s).map_err(|e| e.to_string())? {
+        Some((mut set, modal, _)) => {
+            set.modes.truncate(modal.modes);
             Ok(set)
         }
-        _ => {
+        None => {
             let modal = crate::model::build_bridge(s).map_err(|e| e.to_string())?;
             let n = 401;
             let xs: Vec<f64> = (0..n)
@@ -106,13 +97,16 @@ pub fn table(set: &ModeSet, targets: bool) -> String {
 }
 
 pub fn main(args: ModesArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let s = load_scenario(args.scenario.as_deref(), None, None)?;
+    let s = crate::scenario::load(args.scenario.as_deref(), None, None)?;
     let set = mode_set(&s)?;
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let csv = args.out.join("modes.csv");
     set.write(&csv)
         .map_err(|e| format!("{}: {e}", csv.display()))?;
-    let t = table(&set, s.bridge.kind == "suspension");
+    let t = table(
+        &set,
+        matches!(s.bridge, crate::scenario::Bridge::Suspension { .. }),
+    );
     std::fs::write(args.out.join("modes.md"), &t)?;
     plot_shapes(&args.out.join("mode_shapes.svg"), &set, 6)?;
     println!("{t}");

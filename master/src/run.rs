@@ -3,13 +3,13 @@
 
 use crate::model::{build, Model};
 use crate::scenario::{Scenario, SolverKind};
-use serde_json::json;
+use crate::summary::Summary;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tbi_dynamics::response::{Layout, Recorder, Sample};
-use tbi_dynamics::solver::partitioned::ProbeValues;
+use tbi_dynamics::response::{Layout, Recorder};
+use tbi_dynamics::solver::sample::ProbeShapes;
 use tbi_dynamics::solver::Monolithic;
 
 /// Command-line arguments of `tbi run`.
@@ -31,36 +31,8 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
-/// Load the scenario named on the command line (or the embedded one) with overrides.
-pub fn load_scenario(
-    path: Option<&Path>,
-    solver: Option<&str>,
-    speed_kmh: Option<f64>,
-) -> Result<Scenario, String> {
-    let mut s = match path {
-        Some(p) => Scenario::from_path(p).map_err(|e| e.to_string())?,
-        None => Scenario::default_case(),
-    };
-    if let Some(sv) = solver {
-        s.run.solver = match sv {
-            "monolithic" => SolverKind::Monolithic,
-            "cosim" => SolverKind::Cosim,
-            other => {
-                return Err(format!(
-                    "--solver {other}: expected \"monolithic\" or \"cosim\""
-                ))
-            }
-        };
-    }
-    if let Some(v) = speed_kmh {
-        s.run.speed_kmh = v;
-        s.validate().map_err(|e| format!("--speed-kmh: {e}"))?;
-    }
-    Ok(s)
-}
-
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let scenario = load_scenario(
+    let scenario = crate::scenario::load(
         args.scenario.as_deref(),
         args.solver.as_deref(),
         args.speed_kmh,
@@ -102,29 +74,13 @@ pub fn layout(model: &Model) -> Layout {
     }
 }
 
-/// A progress bar on stderr for runs that take more than about a second.
-pub fn progress(steps: usize, enabled: bool) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if !enabled || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let pb = indicatif::ProgressBar::new(steps as u64);
-    pb.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{elapsed_precise} [{bar:40}] {pos}/{len} steps ({per_sec}, eta {eta})",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    pb
-}
-
-/// Run a scenario into `out`; returns the summary (also written as `summary.json`).
+/// Run a scenario into `out` (co-simulation keeps its FMUs in `out/fmus`); returns the
+/// summary (also written as `summary.json`).
 pub fn run_scenario(
     scenario: &Scenario,
     out: &Path,
     show_progress: bool,
-) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+) -> Result<Summary, Box<dyn std::error::Error>> {
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create output folder: {e}", out.display()))?;
     let model = build(scenario)?;
@@ -138,130 +94,36 @@ pub fn run_scenario(
     let start = Instant::now();
     let result = match scenario.run.solver {
         SolverKind::Monolithic => run_monolithic(&model, &mut rec, show_progress).map(|_| None),
-        SolverKind::Cosim => {
-            let mut s = scenario.clone();
-            s.fmu_dir = Some(s.fmu_dir.clone().unwrap_or_else(|| out.join("fmus")));
-            crate::cosim::run_cosim(&s, &model, &mut rec, show_progress).map(Some)
-        }
+        SolverKind::Cosim => crate::cosim::run_cosim(
+            &scenario.coupling,
+            &model,
+            &out.join("fmus"),
+            &mut rec,
+            show_progress,
+        )
+        .map(Some),
     };
     let wall = start.elapsed().as_secs_f64();
     rec.finish()?;
-    let mut summary = summary_json(scenario, &model, &rec, wall);
+    let mut summary = Summary::new(scenario, &model, &rec, wall);
     match result {
         Ok(coupling) => {
-            if let Some(c) = coupling {
-                summary["coupling"] = c;
-            }
-            write_summary(out, &summary)?;
+            summary.coupling = coupling;
+            summary.write(out)?;
             crate::plots::write_run_plots(out, &model, &history)
                 .map_err(|e| format!("plots in {}: {e}", out.display()))?;
             Ok(summary)
         }
         Err(e) => {
-            summary["status"] = json!("failed");
-            summary["error"] = json!(e.to_string());
-            write_summary(out, &summary)?;
+            summary.status = "failed".into();
+            summary.error = Some(e.to_string());
+            summary.write(out)?;
             Err(format!(
                 "{e} (partial results up to the failure are in {})",
                 out.display()
             )
             .into())
         }
-    }
-}
-
-fn write_summary(
-    out: &Path,
-    summary: &serde_json::Value,
-) -> Result<(), Box<dyn std::error::Error>> {
-    let p = out.join("summary.json");
-    std::fs::write(&p, serde_json::to_string_pretty(summary)?)
-        .map_err(|e| format!("{}: {e}", p.display()))?;
-    Ok(())
-}
-
-/// `summary.json` content.
-pub fn summary_json<W: std::io::Write>(
-    s: &Scenario,
-    model: &Model,
-    rec: &Recorder<W>,
-    wall: f64,
-) -> serde_json::Value {
-    let mut probes = serde_json::Map::new();
-    for ((name, _), m) in model.probes.iter().zip(&rec.probes) {
-        probes.insert(name.clone(), serde_json::to_value(m).expect("serialisable"));
-    }
-    json!({
-        "name": s.name,
-        "status": "ok",
-        "speed_kmh": s.run.speed_kmh,
-        "solver": s.run.solver.as_str(),
-        "dt_s": model.dt,
-        "steps": model.steps,
-        "simulated_time_s": model.t_end(),
-        "wall_time_s": wall,
-        "bridge": {
-            "kind": s.bridge.kind,
-            "modes": model.bridge.n_modes(),
-            "frequencies_hz": model.bridge.frequencies_hz,
-            "labels": model.bridge.labels,
-            "length_m": model.bridge.length_m(),
-        },
-        "train": {
-            "vehicles": model.train.vehicles.len(),
-            "wheelsets": model.train.n_wheelsets(),
-            "length_m": model.train.length_m(),
-        },
-        "probes": probes,
-        "vehicles": rec.vehicles,
-        "safety": rec.safety,
-    })
-}
-
-/// Deck shapes at the probes (precomputed once).
-pub struct ProbeShapes(Vec<Vec<[f64; 3]>>);
-
-impl ProbeShapes {
-    pub fn new(model: &Model) -> Self {
-        ProbeShapes(
-            model
-                .probes
-                .iter()
-                .map(|(_, x)| {
-                    let mut sh = vec![[0.0; 3]; model.bridge.n_modes()];
-                    model.bridge.deck_shapes(*x, &mut sh);
-                    sh
-                })
-                .collect(),
-        )
-    }
-
-    pub fn values(&self, q: &[f64], qdd: &[f64]) -> Vec<ProbeValues> {
-        self.0
-            .iter()
-            .map(|sh| ProbeValues::from_shapes(sh, q, qdd))
-            .collect()
-    }
-}
-
-/// The monolithic solver's sample at its current time.
-pub fn monolithic_sample(sol: &Monolithic, shapes: &ProbeShapes) -> Sample {
-    Sample {
-        t: sol.t,
-        probes: shapes.values(sol.q.as_slice(), sol.qdd.as_slice()),
-        vehicles: sol
-            .train
-            .vehicles
-            .iter()
-            .zip(&sol.vehicles)
-            .map(|(tv, s)| {
-                [
-                    tv.model.body.lateral.map(|i| s.vdd[i]),
-                    tv.model.body.vertical.map(|i| s.vdd[i]),
-                ]
-            })
-            .collect(),
-        forces: sol.forces.clone(),
     }
 }
 
@@ -277,9 +139,10 @@ pub fn run_monolithic<W: std::io::Write>(
         model.track.clone(),
         model.dt,
     );
-    let shapes = ProbeShapes::new(model);
-    rec.record(&monolithic_sample(&sol, &shapes), true)?;
-    let pb = progress(model.steps, show_progress);
+    let probe_x: Vec<f64> = model.probes.iter().map(|p| p.1).collect();
+    let shapes = ProbeShapes::new(&model.bridge, &probe_x);
+    rec.record(&sol.sample(&shapes), true)?;
+    let pb = crate::progress::bar(model.steps, show_progress);
     for k in 1..=model.steps {
         sol.step();
         if !sol.q.iter().all(|v| v.is_finite()) {
@@ -290,7 +153,7 @@ pub fn run_monolithic<W: std::io::Write>(
             .into());
         }
         rec.record(
-            &monolithic_sample(&sol, &shapes),
+            &sol.sample(&shapes),
             k % model.output_every == 0 || k == model.steps,
         )?;
         if k % 256 == 0 {

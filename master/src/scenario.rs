@@ -34,11 +34,24 @@
 //! ```
 //!
 //! Unknown keys are refused; every check names the file, the field and the value.
+//!
+//! # Two layers
+//!
+//! The file is read into private `File…` structs that mirror the TOML (a `kind` string and
+//! the optional keys of every kind), so that serde's errors keep their line. [`Scenario`]
+//! is what the rest of the tool sees: every field checked once, here, and the kinds as
+//! enums ([`Bridge`], [`TrainSpec`]) that carry exactly the data of their kind. The train
+//! speed is checked by [`Speed::from_m_s`] alone, also for `--speed-kmh` and `tbi sweep`:
+//! TOML → [`Scenario::from_toml`] → `Check::run` → [`Speed::from_m_s`] →
+//! [`crate::model::build`] → [`TrainResources::build`](tbi_dynamics::interface::TrainResources::build)
+//! → [`Train::x_at`](tbi_dynamics::train::Train::x_at).
 
 use crate::coupling::CouplingConfig;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+use tbi_dynamics::bridge::SimplySupported;
 use tbi_dynamics::interface::TrainSpec;
+use tbi_dynamics::train::Speed;
 use tbi_dynamics::vehicle::coach::CoachParams;
 use tbi_dynamics::vehicle::simple::{MovingForceAxle, SprungMassAxle};
 use tbi_dynamics::InputError;
@@ -47,35 +60,22 @@ use tbi_track::{HuntingParams, IrregularitySpec};
 /// The embedded default scenario: the paper's Tsing Ma case.
 pub const DEFAULT_SCENARIO: &str = include_str!("../scenarios/tsing-ma.toml");
 
-/// A complete scenario.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// A checked scenario.
+#[derive(Debug, Clone)]
 pub struct Scenario {
-    /// Name used in reports.
-    #[serde(default = "default_name")]
+    /// Name used in reports and as the default output folder.
     pub name: String,
-    pub run: RunConfig,
-    pub bridge: BridgeConfig,
-    pub train: TrainConfig,
-    #[serde(default)]
-    pub track: TrackConfig,
-    #[serde(default, rename = "probe")]
+    pub run: Run,
+    pub bridge: Bridge,
+    pub train: Train,
+    /// Track irregularity (paths relative to `base_dir`).
+    pub track: IrregularitySpec,
     pub probes: Vec<Probe>,
-    #[serde(default)]
     pub coupling: CouplingConfig,
     /// Directory relative paths are resolved against (the scenario file's folder).
-    #[serde(skip)]
     pub base_dir: PathBuf,
     /// Where the scenario came from, for messages.
-    #[serde(skip)]
     pub origin: String,
-    /// Where co-simulation keeps the exported FMUs (set by `tbi run`: `<out>/fmus`).
-    #[serde(skip)]
-    pub fmu_dir: Option<PathBuf>,
-}
-
-fn default_name() -> String {
-    "scenario".into()
 }
 
 /// Which solver runs the scenario.
@@ -94,131 +94,165 @@ impl SolverKind {
             SolverKind::Cosim => "cosim",
         }
     }
+
+    /// `"monolithic"` or `"cosim"`.
+    pub fn parse(s: &str) -> Option<SolverKind> {
+        match s {
+            "monolithic" => Some(SolverKind::Monolithic),
+            "cosim" => Some(SolverKind::Cosim),
+            _ => None,
+        }
+    }
 }
 
 /// `[run]`: speed, step and duration.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RunConfig {
-    /// Train speed, km/h (> 0).
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// Train speed as written, km/h.
     pub speed_kmh: f64,
+    /// The same speed, checked (m/s).
+    pub speed: Speed,
     /// Time step, s (> 0). Default 0.001.
-    #[serde(default = "default_dt")]
     pub dt_s: f64,
     /// Solver. Default `cosim`.
-    #[serde(default)]
     pub solver: SolverKind,
     /// Simulated time after the last axle has left the bridge, s (≥ 0). Default 1.0.
-    #[serde(default = "default_free")]
     pub free_vibration_s: f64,
     /// Position of the first axle at t = 0, m. Default: the deck start (train on the approach).
-    #[serde(default)]
     pub start_x_m: Option<f64>,
     /// Write every n-th step to `history.csv` (≥ 1). Default 1.
-    #[serde(default = "default_every")]
     pub output_every: usize,
 }
 
-fn default_dt() -> f64 {
-    0.001
-}
-fn default_free() -> f64 {
-    1.0
-}
-fn default_every() -> usize {
-    1
+/// `[bridge]`, by kind.
+#[derive(Debug, Clone)]
+pub enum Bridge {
+    /// `kind = "simply_supported"`: analytic sine modes of a prismatic span.
+    SimplySupported(SimplySupported),
+    /// `kind = "modal_file"`: modes from a file (`path`, as written and resolved).
+    ModalFile {
+        path: PathBuf,
+        resolved: PathBuf,
+        modal: ModalOptions,
+    },
+    /// `kind = "suspension"`: the built-in finite-element model of a preset.
+    Suspension {
+        preset: SuspensionPreset,
+        modal: ModalOptions,
+    },
 }
 
-/// `[bridge]`: one table for all kinds; fields that do not belong to the kind are refused.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BridgeConfig {
-    /// `simply_supported`, `modal_file` or `suspension`.
-    pub kind: String,
+/// How a set of nodal modes becomes the modal bridge.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalOptions {
     /// Number of modes kept (≥ 1). Default 20.
-    #[serde(default = "default_modes")]
     pub modes: usize,
-    /// Damping ratio of lateral and vertical modes, –. Default 0.
-    #[serde(default)]
+    /// Damping ratio of lateral and vertical modes, –, in [0, 1). Default 0.
     pub damping_ratio: f64,
-    /// Damping ratio of torsional modes, –. Default: `damping_ratio`.
-    #[serde(default)]
-    pub damping_ratio_torsional: Option<f64>,
-    /// Track eccentricity e from the shear centre (+y), m. Default 0 (suspension preset: 2.05).
-    #[serde(default)]
-    pub track_eccentricity_m: Option<f64>,
-    /// Height h4 of the wheelset reference above the shear centre, m. Default 0 (preset: 1.25).
-    #[serde(default)]
-    pub track_height_m: Option<f64>,
-    // simply supported
-    pub span_m: Option<f64>,
-    pub youngs_modulus_pa: Option<f64>,
-    pub inertia_vertical_m4: Option<f64>,
-    pub inertia_lateral_m4: Option<f64>,
-    pub shear_modulus_pa: Option<f64>,
-    pub torsion_constant_m4: Option<f64>,
-    pub polar_inertia_kg_m: Option<f64>,
-    pub mass_per_length_kg_m: Option<f64>,
-    /// Deck start along the track, m (simply supported). Default 0.
-    pub x_start_m: Option<f64>,
-    // modal file
-    /// Modes file (`.csv` or `.json`), relative to the scenario file.
-    pub path: Option<PathBuf>,
+    /// Damping ratio of torsional modes, –, in [0, 1). Default: `damping_ratio`.
+    pub damping_ratio_torsional: f64,
+    /// Track eccentricity e from the shear centre (+y), m. Default 0 (suspension: 2.05).
+    pub track_eccentricity_m: f64,
+    /// Height h4 of the wheelset reference above the shear centre, m. Default 0
+    /// (suspension: 1.25).
+    pub track_height_m: f64,
     /// Lagrange interpolation points between nodes (2–8). Default 4.
-    pub interpolation_points: Option<usize>,
-    // suspension
-    /// Built-in suspension bridge preset (`tsing-ma`).
-    pub preset: Option<String>,
+    pub interpolation_points: usize,
 }
 
-fn default_modes() -> usize {
-    20
+/// Built-in suspension-bridge presets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SuspensionPreset {
+    /// `"tsing-ma"`: the Tsing Ma Bridge (Hong Kong), the paper's case.
+    TsingMa,
 }
 
-/// A table on one line, `{ key = value, ... }`, for messages.
-fn inline_table(t: &toml::Table) -> String {
-    let items: Vec<String> = t.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-    format!("{{ {} }}", items.join(", "))
+impl SuspensionPreset {
+    pub const ALL: [SuspensionPreset; 1] = [SuspensionPreset::TsingMa];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SuspensionPreset::TsingMa => "tsing-ma",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<SuspensionPreset> {
+        Self::ALL.into_iter().find(|p| p.name() == name)
+    }
 }
 
-/// `[train]`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TrainConfig {
-    /// `moving_force`, `sprung_mass` or `coach_27dof`.
-    pub kind: String,
-    /// Axles of `moving_force` / `sprung_mass` trains (tables, see the module docs).
-    #[serde(default)]
-    pub axles: Vec<toml::Table>,
-    /// Coach preset (`xia2000`).
-    pub preset: Option<String>,
-    /// Number of coaches (≥ 1). Default 1.
-    pub vehicles: Option<usize>,
-    /// Overrides of the coach preset's fields (see `CoachParams`).
-    pub coach: Option<toml::Table>,
+impl Bridge {
+    /// The `kind` as written in scenarios.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Bridge::SimplySupported(_) => "simply_supported",
+            Bridge::ModalFile { .. } => "modal_file",
+            Bridge::Suspension { .. } => "suspension",
+        }
+    }
+
+    /// Number of modes kept.
+    pub fn modes(&self) -> usize {
+        match self {
+            Bridge::SimplySupported(b) => b.modes,
+            Bridge::ModalFile { modal, .. } | Bridge::Suspension { modal, .. } => modal.modes,
+        }
+    }
+}
+
+/// `[train]`: the vehicles by kind, and wheel hunting.
+#[derive(Debug, Clone)]
+pub struct Train {
+    pub spec: TrainSpec,
     /// Wheel hunting; off by default.
-    pub hunting: Option<HuntingParams>,
+    pub hunting: HuntingParams,
 }
 
-/// `[track]`.
-#[derive(Debug, Clone, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct TrackConfig {
-    #[serde(default)]
-    pub irregularity: IrregularitySpec,
+impl Train {
+    /// The `kind` as written in scenarios.
+    pub fn kind(&self) -> &'static str {
+        match self.spec {
+            TrainSpec::MovingForce(_) => "moving_force",
+            TrainSpec::SprungMass(_) => "sprung_mass",
+            TrainSpec::Coaches { .. } => "coach_27dof",
+        }
+    }
 }
 
 /// `[[probe]]`: a deck point whose response is recorded.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Probe {
+    /// Non-empty, no commas or quotes (it names CSV columns).
     pub name: String,
     /// Position along the track, m (on the deck).
     pub x_m: f64,
 }
 
+/// Read the scenario named on the command line (or the embedded one) with the command
+/// line's overrides of the solver and the speed.
+pub fn load(
+    path: Option<&Path>,
+    solver: Option<&str>,
+    speed_kmh: Option<f64>,
+) -> Result<Scenario, String> {
+    let mut s = match path {
+        Some(p) => Scenario::from_path(p).map_err(|e| e.to_string())?,
+        None => Scenario::default_case(),
+    };
+    if let Some(sv) = solver {
+        s.run.solver = SolverKind::parse(sv)
+            .ok_or_else(|| format!("--solver {sv}: expected \"monolithic\" or \"cosim\""))?;
+    }
+    if let Some(v) = speed_kmh {
+        s.set_speed_kmh(v)
+            .map_err(|e| format!("--speed-kmh: {e}"))?;
+    }
+    Ok(s)
+}
+
 impl Scenario {
-    /// Read and validate a scenario file.
+    /// Read and check a scenario file.
     pub fn from_path(path: &Path) -> Result<Scenario, InputError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError::file(path, format!("cannot read scenario: {e}")))?;
@@ -236,109 +270,231 @@ impl Scenario {
         .expect("the embedded scenario is valid")
     }
 
-    /// Parse and validate TOML text; `origin` names it in messages.
+    /// Parse and check TOML text; `origin` names it in messages.
     pub fn from_toml(text: &str, origin: &str, base_dir: &Path) -> Result<Scenario, InputError> {
-        let mut s: Scenario = toml::from_str(text).map_err(|e| {
+        let file: FileScenario = toml::from_str(text).map_err(|e| {
             let line = e
                 .span()
                 .map(|sp| text[..sp.start.min(text.len())].matches('\n').count() + 1)
                 .unwrap_or(0);
             InputError::line(origin, line, e.message().to_string())
         })?;
-        s.base_dir = base_dir.to_path_buf();
-        s.origin = origin.to_string();
-        s.validate()?;
-        Ok(s)
+        let c = Check { origin };
+        let run = c.run(&file.run)?;
+        let bridge = c.bridge(&file.bridge, base_dir)?;
+        let train = c.train(&file.train)?;
+        c.probes(&file.probes)?;
+        file.coupling
+            .validate()
+            .map_err(|e| c.err("coupling", "", &e.to_string()))?;
+        Ok(Scenario {
+            name: file.name,
+            run,
+            bridge,
+            train,
+            track: file.track.irregularity,
+            probes: file.probes,
+            coupling: file.coupling,
+            base_dir: base_dir.to_path_buf(),
+            origin: origin.to_string(),
+        })
     }
 
+    /// Change the speed (km/h), checked as in the file.
+    pub fn set_speed_kmh(&mut self, v: f64) -> Result<(), InputError> {
+        self.run.speed = Speed::from_m_s(v / 3.6)
+            .map_err(|e| InputError::field(&self.origin, "run.speed_kmh", v, e.to_string()))?;
+        self.run.speed_kmh = v;
+        Ok(())
+    }
+}
+
+// ---- the file as written -------------------------------------------------------------
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileScenario {
+    #[serde(default = "default_name")]
+    name: String,
+    run: FileRun,
+    bridge: FileBridge,
+    train: FileTrain,
+    #[serde(default)]
+    track: FileTrack,
+    #[serde(default, rename = "probe")]
+    probes: Vec<Probe>,
+    #[serde(default)]
+    coupling: CouplingConfig,
+}
+
+fn default_name() -> String {
+    "scenario".into()
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileRun {
+    speed_kmh: f64,
+    #[serde(default = "default_dt")]
+    dt_s: f64,
+    #[serde(default)]
+    solver: SolverKind,
+    #[serde(default = "default_free")]
+    free_vibration_s: f64,
+    #[serde(default)]
+    start_x_m: Option<f64>,
+    #[serde(default = "default_every")]
+    output_every: usize,
+}
+
+fn default_dt() -> f64 {
+    0.001
+}
+fn default_free() -> f64 {
+    1.0
+}
+fn default_every() -> usize {
+    1
+}
+
+/// `[bridge]`: one table for all kinds; keys that do not belong to the kind are refused.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileBridge {
+    kind: String,
+    #[serde(default = "default_modes")]
+    modes: usize,
+    #[serde(default)]
+    damping_ratio: f64,
+    damping_ratio_torsional: Option<f64>,
+    track_eccentricity_m: Option<f64>,
+    track_height_m: Option<f64>,
+    // simply supported
+    span_m: Option<f64>,
+    youngs_modulus_pa: Option<f64>,
+    inertia_vertical_m4: Option<f64>,
+    inertia_lateral_m4: Option<f64>,
+    shear_modulus_pa: Option<f64>,
+    torsion_constant_m4: Option<f64>,
+    polar_inertia_kg_m: Option<f64>,
+    mass_per_length_kg_m: Option<f64>,
+    x_start_m: Option<f64>,
+    // modal file
+    path: Option<PathBuf>,
+    interpolation_points: Option<usize>,
+    // suspension
+    preset: Option<String>,
+}
+
+fn default_modes() -> usize {
+    20
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileTrain {
+    kind: String,
+    #[serde(default)]
+    axles: Vec<toml::Table>,
+    preset: Option<String>,
+    vehicles: Option<usize>,
+    coach: Option<toml::Table>,
+    hunting: Option<HuntingParams>,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct FileTrack {
+    #[serde(default)]
+    irregularity: IrregularitySpec,
+}
+
+/// A table on one line, `{ key = value, ... }`, for messages.
+fn inline_table(t: &toml::Table) -> String {
+    let items: Vec<String> = t.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    format!("{{ {} }}", items.join(", "))
+}
+
+// ---- the checks: every field once ----------------------------------------------------
+
+struct Check<'a> {
+    origin: &'a str,
+}
+
+impl Check<'_> {
     fn err(&self, field: &str, value: impl std::fmt::Display, reason: &str) -> InputError {
-        InputError::field(&self.origin, field, value, reason)
+        InputError::field(self.origin, field, value, reason)
     }
 
-    fn positive(&self, field: &str, v: f64) -> Result<(), InputError> {
+    fn positive(&self, field: &str, v: f64) -> Result<f64, InputError> {
         if !(v.is_finite() && v > 0.0) {
             return Err(self.err(field, v, "must be a positive finite number"));
         }
-        Ok(())
+        Ok(v)
     }
 
-    fn non_negative(&self, field: &str, v: f64) -> Result<(), InputError> {
+    fn non_negative(&self, field: &str, v: f64) -> Result<f64, InputError> {
         if !(v.is_finite() && v >= 0.0) {
             return Err(self.err(field, v, "must be a finite number ≥ 0"));
         }
-        Ok(())
+        Ok(v)
     }
 
-    /// Check every field (ranges, kinds, fields that do not apply to the kind).
-    pub fn validate(&self) -> Result<(), InputError> {
-        let r = &self.run;
-        self.positive("run.speed_kmh", r.speed_kmh)?;
-        self.positive("run.dt_s", r.dt_s)?;
-        self.non_negative("run.free_vibration_s", r.free_vibration_s)?;
+    fn finite(&self, field: &str, v: f64) -> Result<f64, InputError> {
+        if !v.is_finite() {
+            return Err(self.err(field, v, "must be finite"));
+        }
+        Ok(v)
+    }
+
+    fn ratio(&self, field: &str, v: f64) -> Result<f64, InputError> {
+        if !(0.0..1.0).contains(&v) {
+            return Err(self.err(field, v, "must lie in [0, 1)"));
+        }
+        Ok(v)
+    }
+
+    fn run(&self, r: &FileRun) -> Result<Run, InputError> {
+        // km/h as written for reports, m/s checked for the physics.
+        let speed = Speed::from_m_s(r.speed_kmh / 3.6)
+            .map_err(|e| self.err("run.speed_kmh", r.speed_kmh, &e.to_string()))?;
+        let dt_s = self.positive("run.dt_s", r.dt_s)?;
+        let free_vibration_s = self.non_negative("run.free_vibration_s", r.free_vibration_s)?;
         if let Some(x) = r.start_x_m {
-            if !x.is_finite() {
-                return Err(self.err("run.start_x_m", x, "must be finite"));
-            }
+            self.finite("run.start_x_m", x)?;
         }
         if r.output_every == 0 {
             return Err(self.err("run.output_every", 0, "must be at least 1"));
         }
-        self.validate_bridge()?;
-        self.train_axles()?;
-        if let Some(h) = &self.train.hunting {
-            h.validate()
-                .map_err(|e| self.err("train.hunting", format!("{h:?}"), &e.to_string()))?;
-        }
-        let mut names = std::collections::HashSet::new();
-        for (i, p) in self.probes.iter().enumerate() {
-            if p.name.is_empty() || p.name.contains(',') || p.name.contains('"') {
-                return Err(self.err(
-                    &format!("probe[{i}].name"),
-                    format!("{:?}", p.name),
-                    "must be non-empty without commas or quotes",
-                ));
-            }
-            if !names.insert(p.name.clone()) {
-                return Err(self.err(&format!("probe[{i}].name"), &p.name, "is used twice"));
-            }
-            if !p.x_m.is_finite() {
-                return Err(self.err(&format!("probe[{i}].x_m"), p.x_m, "must be finite"));
-            }
-        }
-        self.coupling
-            .validate()
-            .map_err(|e| self.err("coupling", "", &e.to_string()))?;
-        Ok(())
+        Ok(Run {
+            speed_kmh: r.speed_kmh,
+            speed,
+            dt_s,
+            solver: r.solver,
+            free_vibration_s,
+            start_x_m: r.start_x_m,
+            output_every: r.output_every,
+        })
     }
 
-    fn validate_bridge(&self) -> Result<(), InputError> {
-        let b = &self.bridge;
+    fn bridge(&self, b: &FileBridge, base_dir: &Path) -> Result<Bridge, InputError> {
         if b.modes == 0 {
             return Err(self.err("bridge.modes", 0, "must be at least 1"));
         }
-        if !(0.0..1.0).contains(&b.damping_ratio) {
-            return Err(self.err(
-                "bridge.damping_ratio",
-                b.damping_ratio,
-                "must lie in [0, 1)",
-            ));
-        }
-        if let Some(z) = b.damping_ratio_torsional {
-            if !(0.0..1.0).contains(&z) {
-                return Err(self.err("bridge.damping_ratio_torsional", z, "must lie in [0, 1)"));
-            }
-        }
+        let damping_ratio = self.ratio("bridge.damping_ratio", b.damping_ratio)?;
+        let damping_ratio_torsional = match b.damping_ratio_torsional {
+            Some(z) => self.ratio("bridge.damping_ratio_torsional", z)?,
+            None => damping_ratio,
+        };
         for (name, v) in [
             ("bridge.track_eccentricity_m", b.track_eccentricity_m),
             ("bridge.track_height_m", b.track_height_m),
         ] {
             if let Some(v) = v {
-                if !v.is_finite() {
-                    return Err(self.err(name, v, "must be finite"));
-                }
+                self.finite(name, v)?;
             }
         }
-        let ss_fields: [(&str, Option<f64>); 9] = [
+        let section: [(&str, Option<f64>); 9] = [
             ("span_m", b.span_m),
             ("youngs_modulus_pa", b.youngs_modulus_pa),
             ("inertia_vertical_m4", b.inertia_vertical_m4),
@@ -349,50 +505,53 @@ impl Scenario {
             ("mass_per_length_kg_m", b.mass_per_length_kg_m),
             ("x_start_m", b.x_start_m),
         ];
-        let refuse = |fields: &[(&str, bool)]| -> Result<(), InputError> {
-            for (name, set) in fields {
-                if *set {
-                    return Err(self.err(
-                        &format!("bridge.{name}"),
-                        "(set)",
-                        &format!("does not apply to kind \"{}\"", b.kind),
-                    ));
-                }
+        let refuse = |keys: &[(&str, bool)]| -> Result<(), InputError> {
+            match keys.iter().find(|(_, set)| *set) {
+                Some((name, _)) => Err(self.err(
+                    &format!("bridge.{name}"),
+                    "(set)",
+                    &format!("does not apply to kind \"{}\"", b.kind),
+                )),
+                None => Ok(()),
             }
-            Ok(())
         };
-        // Shared by the kinds that interpolate nodal shapes: the interpolation order, and no
-        // simply supported section data.
-        let modal_kinds = || -> Result<(), InputError> {
-            if let Some(p) = b.interpolation_points {
-                if !(2..=8).contains(&p) {
-                    return Err(self.err("bridge.interpolation_points", p, "must lie in 2..=8"));
-                }
+        // The kinds that interpolate nodal shapes: the interpolation order, no section data.
+        let modal = |e_default: f64, h4_default: f64| -> Result<ModalOptions, InputError> {
+            let interpolation_points = b.interpolation_points.unwrap_or(4);
+            if !(2..=8).contains(&interpolation_points) {
+                return Err(self.err(
+                    "bridge.interpolation_points",
+                    interpolation_points,
+                    "must lie in 2..=8",
+                ));
             }
-            let set: Vec<(&str, bool)> = ss_fields.iter().map(|(n, v)| (*n, v.is_some())).collect();
-            refuse(&set)
+            let set: Vec<(&str, bool)> = section.iter().map(|(n, v)| (*n, v.is_some())).collect();
+            refuse(&set)?;
+            Ok(ModalOptions {
+                modes: b.modes,
+                damping_ratio,
+                damping_ratio_torsional,
+                track_eccentricity_m: b.track_eccentricity_m.unwrap_or(e_default),
+                track_height_m: b.track_height_m.unwrap_or(h4_default),
+                interpolation_points,
+            })
         };
         match b.kind.as_str() {
             "simply_supported" => {
-                for name in [
-                    "span_m",
-                    "youngs_modulus_pa",
-                    "inertia_vertical_m4",
-                    "mass_per_length_kg_m",
-                ] {
-                    let v = ss_fields.iter().find(|f| f.0 == name).and_then(|f| f.1);
-                    match v {
-                        None => {
-                            return Err(self.err(
-                                &format!("bridge.{name}"),
-                                "(missing)",
-                                "is required for kind \"simply_supported\"",
-                            ))
-                        }
-                        Some(v) => self.positive(&format!("bridge.{name}"), v)?,
-                    }
-                }
-                for (name, v) in &ss_fields[3..7] {
+                let required = |name: &str, v: Option<f64>| match v {
+                    None => Err(self.err(
+                        &format!("bridge.{name}"),
+                        "(missing)",
+                        "is required for kind \"simply_supported\"",
+                    )),
+                    Some(v) => self.positive(&format!("bridge.{name}"), v),
+                };
+                let span_m = required("span_m", b.span_m)?;
+                let youngs_modulus_pa = required("youngs_modulus_pa", b.youngs_modulus_pa)?;
+                let inertia_vertical_m4 = required("inertia_vertical_m4", b.inertia_vertical_m4)?;
+                let mass_per_length_kg_m =
+                    required("mass_per_length_kg_m", b.mass_per_length_kg_m)?;
+                for (name, v) in &section[3..7] {
                     if let Some(v) = v {
                         self.positive(&format!("bridge.{name}"), *v)?;
                     }
@@ -407,129 +566,153 @@ impl Scenario {
                     return Err(self.err("bridge.shear_modulus_pa", format!("{:?}", b.shear_modulus_pa), "torsion needs shear_modulus_pa, torsion_constant_m4 and polar_inertia_kg_m together"));
                 }
                 if let Some(x) = b.x_start_m {
-                    if !x.is_finite() {
-                        return Err(self.err("bridge.x_start_m", x, "must be finite"));
-                    }
+                    self.finite("bridge.x_start_m", x)?;
                 }
                 refuse(&[
                     ("path", b.path.is_some()),
                     ("preset", b.preset.is_some()),
                     ("interpolation_points", b.interpolation_points.is_some()),
                 ])?;
+                Ok(Bridge::SimplySupported(SimplySupported {
+                    span_m,
+                    youngs_modulus_pa,
+                    inertia_vertical_m4,
+                    inertia_lateral_m4: b.inertia_lateral_m4,
+                    shear_modulus_pa: b.shear_modulus_pa,
+                    torsion_constant_m4: b.torsion_constant_m4,
+                    polar_inertia_kg_m: b.polar_inertia_kg_m,
+                    mass_per_length_kg_m,
+                    modes: b.modes,
+                    damping_ratio,
+                    damping_ratio_torsional,
+                    e_m: b.track_eccentricity_m.unwrap_or(0.0),
+                    h4_m: b.track_height_m.unwrap_or(0.0),
+                    x_start_m: b.x_start_m.unwrap_or(0.0),
+                }))
             }
             "modal_file" => {
-                if b.path.is_none() {
+                let Some(path) = b.path.clone() else {
                     return Err(self.err(
                         "bridge.path",
                         "(missing)",
                         "is required for kind \"modal_file\"",
                     ));
-                }
-                modal_kinds()?;
+                };
+                let modal = modal(0.0, 0.0)?;
                 refuse(&[("preset", b.preset.is_some())])?;
+                Ok(Bridge::ModalFile {
+                    resolved: base_dir.join(&path),
+                    path,
+                    modal,
+                })
             }
             "suspension" => {
-                match b.preset.as_deref() {
-                    Some("tsing-ma") => {}
-                    Some(p) => {
-                        return Err(self.err(
+                let available = SuspensionPreset::ALL.map(|p| format!("\"{}\"", p.name()));
+                let preset = match b.preset.as_deref() {
+                    Some(p) => SuspensionPreset::parse(p).ok_or_else(|| {
+                        self.err(
                             "bridge.preset",
                             format!("\"{p}\""),
-                            "unknown preset; available: \"tsing-ma\"",
-                        ))
-                    }
+                            &format!("unknown preset; available: {}", available.join(", ")),
+                        )
+                    })?,
                     None => {
                         return Err(self.err(
                             "bridge.preset",
                             "(missing)",
-                            "is required for kind \"suspension\" (available: \"tsing-ma\")",
+                            &format!(
+                                "is required for kind \"suspension\" (available: {})",
+                                available.join(", ")
+                            ),
                         ))
                     }
-                }
-                modal_kinds()?;
+                };
+                let modal = modal(2.05, 1.25)?;
                 refuse(&[("path", b.path.is_some())])?;
+                Ok(Bridge::Suspension { preset, modal })
             }
-            other => {
-                return Err(self.err(
-                    "bridge.kind",
-                    format!("\"{other}\""),
-                    "unknown kind; expected \"simply_supported\", \"modal_file\" or \"suspension\"",
-                ))
-            }
+            other => Err(self.err(
+                "bridge.kind",
+                format!("\"{other}\""),
+                "unknown kind; expected \"simply_supported\", \"modal_file\" or \"suspension\"",
+            )),
         }
-        Ok(())
     }
 
-    /// The validated train description.
-    pub fn train_axles(&self) -> Result<TrainSpec, InputError> {
-        let t = &self.train;
-        let only_axles = |kind: &str| -> Result<(), InputError> {
-            for (name, set) in [
-                ("preset", t.preset.is_some()),
-                ("vehicles", t.vehicles.is_some()),
-                ("coach", t.coach.is_some()),
-            ] {
-                if set {
-                    return Err(self.err(
-                        &format!("train.{name}"),
-                        "(set)",
-                        &format!("does not apply to kind \"{kind}\""),
-                    ));
-                }
-            }
-            if t.axles.is_empty() {
+    fn train(&self, t: &FileTrain) -> Result<Train, InputError> {
+        let spec = self.train_spec(t)?;
+        let hunting = t.hunting.clone().unwrap_or_default();
+        hunting
+            .validate()
+            .map_err(|e| self.err("train.hunting", format!("{hunting:?}"), &e.to_string()))?;
+        Ok(Train { spec, hunting })
+    }
+
+    /// The axles of `moving_force` / `sprung_mass` trains, each table converted and checked.
+    fn axles<A: serde::de::DeserializeOwned>(
+        &self,
+        t: &FileTrain,
+        check: impl Fn(usize, &A) -> Result<(), InputError>,
+    ) -> Result<Vec<A>, InputError> {
+        for (name, set) in [
+            ("preset", t.preset.is_some()),
+            ("vehicles", t.vehicles.is_some()),
+            ("coach", t.coach.is_some()),
+        ] {
+            if set {
                 return Err(self.err(
-                    "train.axles",
-                    "[]",
-                    &format!("kind \"{kind}\" needs at least one axle"),
+                    &format!("train.{name}"),
+                    "(set)",
+                    &format!("does not apply to kind \"{}\"", t.kind),
                 ));
             }
-            Ok(())
-        };
+        }
+        if t.axles.is_empty() {
+            return Err(self.err(
+                "train.axles",
+                "[]",
+                &format!("kind \"{}\" needs at least one axle", t.kind),
+            ));
+        }
+        t.axles
+            .iter()
+            .enumerate()
+            .map(|(i, table)| {
+                let axle: A = table.clone().try_into().map_err(|e: toml::de::Error| {
+                    self.err(
+                        &format!("train.axles[{i}]"),
+                        inline_table(table),
+                        e.message(),
+                    )
+                })?;
+                check(i, &axle)?;
+                Ok(axle)
+            })
+            .collect()
+    }
+
+    fn train_spec(&self, t: &FileTrain) -> Result<TrainSpec, InputError> {
+        let field = |i: usize, name: &str| format!("train.axles[{i}].{name}");
         match t.kind.as_str() {
-            "moving_force" => {
-                only_axles("moving_force")?;
-                let mut out = Vec::new();
-                for (i, a) in t.axles.iter().enumerate() {
-                    let ax: MovingForceAxle =
-                        a.clone().try_into().map_err(|e: toml::de::Error| {
-                            self.err(&format!("train.axles[{i}]"), inline_table(a), e.message())
-                        })?;
-                    self.non_negative(&format!("train.axles[{i}].offset_m"), ax.offset_m)?;
-                    if !ax.load_n.is_finite() {
-                        return Err(self.err(
-                            &format!("train.axles[{i}].load_n"),
-                            ax.load_n,
-                            "must be finite",
-                        ));
-                    }
-                    out.push(ax);
-                }
-                Ok(TrainSpec::MovingForce(out))
-            }
-            "sprung_mass" => {
-                only_axles("sprung_mass")?;
-                let mut out = Vec::new();
-                for (i, a) in t.axles.iter().enumerate() {
-                    let ax: SprungMassAxle =
-                        a.clone().try_into().map_err(|e: toml::de::Error| {
-                            self.err(&format!("train.axles[{i}]"), inline_table(a), e.message())
-                        })?;
-                    self.non_negative(&format!("train.axles[{i}].offset_m"), ax.offset_m)?;
-                    self.positive(
-                        &format!("train.axles[{i}].sprung_mass_kg"),
-                        ax.sprung_mass_kg,
-                    )?;
-                    self.positive(&format!("train.axles[{i}].stiffness_n_m"), ax.stiffness_n_m)?;
-                    self.non_negative(&format!("train.axles[{i}].damping_ns_m"), ax.damping_ns_m)?;
-                    self.non_negative(
-                        &format!("train.axles[{i}].wheel_mass_kg"),
-                        ax.wheel_mass_kg,
-                    )?;
-                    out.push(ax);
-                }
-                Ok(TrainSpec::SprungMass(out))
-            }
+            "moving_force" => Ok(TrainSpec::MovingForce(self.axles(
+                t,
+                |i, a: &MovingForceAxle| {
+                    self.non_negative(&field(i, "offset_m"), a.offset_m)?;
+                    self.finite(&field(i, "load_n"), a.load_n)?;
+                    Ok(())
+                },
+            )?)),
+            "sprung_mass" => Ok(TrainSpec::SprungMass(self.axles(
+                t,
+                |i, a: &SprungMassAxle| {
+                    self.non_negative(&field(i, "offset_m"), a.offset_m)?;
+                    self.positive(&field(i, "sprung_mass_kg"), a.sprung_mass_kg)?;
+                    self.positive(&field(i, "stiffness_n_m"), a.stiffness_n_m)?;
+                    self.non_negative(&field(i, "damping_ns_m"), a.damping_ns_m)?;
+                    self.non_negative(&field(i, "wheel_mass_kg"), a.wheel_mass_kg)?;
+                    Ok(())
+                },
+            )?)),
             "coach_27dof" => {
                 if !t.axles.is_empty() {
                     return Err(self.err(
@@ -548,25 +731,16 @@ impl Scenario {
                         ))
                     }
                 };
-                if let Some(over) = &t.coach {
-                    for (k, v) in over {
-                        let val = v
-                            .as_float()
-                            .or_else(|| v.as_integer().map(|i| i as f64))
-                            .ok_or_else(|| {
-                                self.err(&format!("train.coach.{k}"), v, "must be a number")
-                            })?;
-                        match params.field_mut(k) {
-                            Some(f) => *f = val,
-                            None => {
-                                return Err(self.err(
-                                    &format!("train.coach.{k}"),
-                                    val,
-                                    "unknown coach parameter",
-                                ))
-                            }
-                        }
-                    }
+                for (k, v) in t.coach.iter().flatten() {
+                    let val = v
+                        .as_float()
+                        .or_else(|| v.as_integer().map(|i| i as f64))
+                        .ok_or_else(|| {
+                            self.err(&format!("train.coach.{k}"), v, "must be a number")
+                        })?;
+                    *params.field_mut(k).ok_or_else(|| {
+                        self.err(&format!("train.coach.{k}"), val, "unknown coach parameter")
+                    })? = val;
                 }
                 params
                     .check()
@@ -585,8 +759,21 @@ impl Scenario {
         }
     }
 
-    /// Speed in m/s.
-    pub fn speed_m_s(&self) -> f64 {
-        self.run.speed_kmh / 3.6
+    fn probes(&self, probes: &[Probe]) -> Result<(), InputError> {
+        let mut names = std::collections::HashSet::new();
+        for (i, p) in probes.iter().enumerate() {
+            if p.name.is_empty() || p.name.contains(',') || p.name.contains('"') {
+                return Err(self.err(
+                    &format!("probe[{i}].name"),
+                    format!("{:?}", p.name),
+                    "must be non-empty without commas or quotes",
+                ));
+            }
+            if !names.insert(p.name.clone()) {
+                return Err(self.err(&format!("probe[{i}].name"), &p.name, "is used twice"));
+            }
+            self.finite(&format!("probe[{i}].x_m"), p.x_m)?;
+        }
+        Ok(())
     }
 }

@@ -1,11 +1,12 @@
 //! `tbi sweep`: one scenario at several speeds, run in parallel, summarised in the layout of
 //! the paper's Table 2 (maximum responses of bridge and vehicles) beside the paper's values.
 
-use crate::run::{load_scenario, run_scenario};
+use crate::run::run_scenario;
+use crate::summary::Summary;
 use rayon::prelude::*;
-use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use tbi_dynamics::response::ProbeMax;
 
 /// Command-line arguments of `tbi sweep`.
 #[derive(Debug, Clone, clap::Args)]
@@ -28,18 +29,12 @@ pub struct Row {
     pub name: &'static str,
     pub unit: &'static str,
     pub paper: [f64; 4],
-    pub value: fn(&Value) -> f64,
+    pub value: fn(&Summary) -> f64,
 }
 
-fn probe_max(s: &Value, key: &str) -> f64 {
-    s["probes"]
-        .as_object()
-        .map(|m| {
-            m.values()
-                .map(|p| p[key].as_f64().unwrap_or(0.0))
-                .fold(0.0, f64::max)
-        })
-        .unwrap_or(0.0)
+/// The largest value of one maximum over the probes.
+fn probe_max(s: &Summary, key: fn(&ProbeMax) -> f64) -> f64 {
+    s.probes.values().map(key).fold(0.0, f64::max)
 }
 
 /// The paper's speeds, km/h.
@@ -51,59 +46,49 @@ pub const TABLE2: [Row; 8] = [
         name: "Deck vertical displacement",
         unit: "cm",
         paper: [49.39, 49.52, 51.29, 54.04],
-        value: |s| 100.0 * probe_max(s, "vertical_displacement_max_m"),
+        value: |s| 100.0 * probe_max(s, |p| p.vertical_displacement_max_m),
     },
     Row {
         name: "Deck vertical acceleration",
         unit: "cm/s²",
         paper: [0.0845, 0.332, 0.878, 3.156],
-        value: |s| 100.0 * probe_max(s, "vertical_acceleration_max_m_s2"),
+        value: |s| 100.0 * probe_max(s, |p| p.vertical_acceleration_max_m_s2),
     },
     Row {
         name: "Deck lateral displacement",
         unit: "mm",
         paper: [15.07, 10.83, 8.058, 4.686],
-        value: |s| 1000.0 * probe_max(s, "lateral_displacement_max_m"),
+        value: |s| 1000.0 * probe_max(s, |p| p.lateral_displacement_max_m),
     },
     Row {
         name: "Deck lateral acceleration",
         unit: "cm/s²",
         paper: [0.931, 1.097, 1.298, 2.234],
-        value: |s| 100.0 * probe_max(s, "lateral_acceleration_max_m_s2"),
+        value: |s| 100.0 * probe_max(s, |p| p.lateral_acceleration_max_m_s2),
     },
     Row {
         name: "Vehicle vertical acceleration",
         unit: "cm/s²",
         paper: [12.96, 31.85, 48.29, 74.31],
-        value: |s| {
-            100.0
-                * s["vehicles"]["vertical_acceleration_max_m_s2"]
-                    .as_f64()
-                    .unwrap_or(0.0)
-        },
+        value: |s| 100.0 * s.vehicles.vertical_acceleration_max_m_s2,
     },
     Row {
         name: "Vehicle lateral acceleration",
         unit: "cm/s²",
         paper: [19.01, 38.19, 40.05, 51.92],
-        value: |s| {
-            100.0
-                * s["vehicles"]["lateral_acceleration_max_m_s2"]
-                    .as_f64()
-                    .unwrap_or(0.0)
-        },
+        value: |s| 100.0 * s.vehicles.lateral_acceleration_max_m_s2,
     },
     Row {
         name: "Derail factor",
         unit: "Q/P",
         paper: [0.247, 0.287, 0.306, 0.413],
-        value: |s| s["safety"]["derail_factor_max"].as_f64().unwrap_or(0.0),
+        value: |s| s.safety.derail_factor_max,
     },
     Row {
         name: "Offload factor",
         unit: "ΔP/P",
         paper: [0.380, 0.381, 0.393, 0.410],
-        value: |s| s["safety"]["offload_factor_max"].as_f64().unwrap_or(0.0),
+        value: |s| s.safety.offload_factor_max,
     },
 ];
 
@@ -111,23 +96,21 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     if args.speeds.is_empty() {
         return Err("--speeds: give at least one speed".into());
     }
-    let base = load_scenario(args.scenario.as_deref(), args.solver.as_deref(), None)?;
-    for v in &args.speeds {
-        if !(v.is_finite() && *v > 0.0) {
-            return Err(format!("--speeds: {v} km/h must be positive").into());
-        }
+    let base = crate::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)?;
+    let mut cases = Vec::with_capacity(args.speeds.len());
+    for &v in &args.speeds {
+        let mut s = base.clone();
+        s.set_speed_kmh(v).map_err(|e| format!("--speeds: {e}"))?;
+        cases.push((v, s));
     }
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     // The bridge model is shared: build it once before the parallel runs.
     crate::model::build_bridge(&base)?;
-    let results: Vec<Result<Value, String>> = args
-        .speeds
+    let results: Vec<Result<Summary, String>> = cases
         .par_iter()
-        .map(|&v| {
-            let mut s = base.clone();
-            s.run.speed_kmh = v;
+        .map(|(v, s)| {
             let dir = args.out.join(format!("v{v}"));
-            run_scenario(&s, &dir, false).map_err(|e| format!("{v} km/h: {e}"))
+            run_scenario(s, &dir, false).map_err(|e| format!("{v} km/h: {e}"))
         })
         .collect();
     let mut summaries = Vec::new();
@@ -146,7 +129,7 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 /// Table 2 as Markdown and CSV: ours, the paper's value at the same speed, and the ratio.
-pub fn tables(speeds: &[f64], summaries: &[Value]) -> (String, String) {
+pub fn tables(speeds: &[f64], summaries: &[Summary]) -> (String, String) {
     let mut md = String::from("| Response | Unit |");
     let mut csv = String::from("response,unit");
     for v in speeds {

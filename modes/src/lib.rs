@@ -1,4 +1,6 @@
-//! Deck mode shapes exchanged with finite-element programs: the `modal_file` format.
+//! Deck mode shapes exchanged with finite-element programs: the `modal_file` format, in a
+//! crate of its own so that the FE generator (`tbi-fe`) writes it and the physics core
+//! (`tbi-dynamics`) reads it without either depending on the other.
 //!
 //! A [`ModeSet`] holds, for each mode `n`, its natural frequency and the mass-normalised
 //! (φₙᵀ M φₙ = 1, M in kg and kg·m²) deck components at the shear centre, sampled at deck
@@ -9,7 +11,7 @@
 //! * `torsion`  φ_θ: rotation about +x (right side down), rad·kg^-1/2·m^-1.
 //!
 //! Between nodes the shapes are interpolated with Lagrange polynomials (see
-//! [`super::modal::ModalBridge`]). Two encodings are read and written:
+//! `tbi_dynamics::bridge::ModalBridge`). Two encodings are read and written:
 //!
 //! **CSV** (long format, one row per mode and node; `#` starts a comment line):
 //! ```text
@@ -24,7 +26,9 @@
 //! "frequency_hz": ..., "damping_ratio": null, "lateral": [...], "vertical": [...],
 //! "torsion": [...]}]}`.
 
-use crate::error::InputError;
+pub mod error;
+
+pub use error::InputError;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

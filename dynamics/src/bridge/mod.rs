@@ -1,18 +1,19 @@
 //! The bridge as a modal model.
 pub mod modal;
-pub mod modes_file;
+/// The modes file format (crate `tbi-modes`).
+pub use tbi_modes as modes_file;
 pub mod simply_supported;
 
 pub use modal::{ModalBridge, Shapes};
-pub use modes_file::{Mode, ModeSet, FORMAT_TAG};
 pub use simply_supported::SimplySupported;
+pub use tbi_modes::{Mode, ModeSet, FORMAT_TAG};
 
-impl ModeSet {
-    /// A modal bridge from the first `modes` modes of this set. Modes without a damping
+impl ModalBridge {
+    /// A modal bridge from the first `modes` modes of `set`. Modes without a damping
     /// ratio get `damping` (bending) or `damping_torsional` (labels starting with `T`).
     /// The deck starts at the first node; shapes are interpolated through `order` nodes.
-    pub fn to_modal(
-        &self,
+    pub fn from_mode_set(
+        set: &ModeSet,
         modes: usize,
         damping: f64,
         damping_torsional: f64,
@@ -20,9 +21,9 @@ impl ModeSet {
         h4_m: f64,
         order: usize,
     ) -> ModalBridge {
-        let modes = modes.min(self.modes.len());
-        let used = &self.modes[..modes];
-        let nn = self.x_m.len();
+        let modes = modes.min(set.modes.len());
+        let used = &set.modes[..modes];
+        let nn = set.x_m.len();
         let mut values = Vec::with_capacity(nn * modes);
         for j in 0..nn {
             for m in used {
@@ -30,8 +31,8 @@ impl ModeSet {
             }
         }
         ModalBridge {
-            x_start_m: self.x_m[0],
-            x_end_m: *self.x_m.last().expect("validated: at least two nodes"),
+            x_start_m: set.x_m[0],
+            x_end_m: *set.x_m.last().expect("validated: at least two nodes"),
             frequencies_hz: used.iter().map(|m| m.frequency_hz).collect(),
             damping: used
                 .iter()
@@ -47,7 +48,7 @@ impl ModeSet {
             e_m,
             h4_m,
             shapes: Shapes::Nodal {
-                x_m: self.x_m.clone(),
+                x_m: set.x_m.clone(),
                 values,
                 order,
             },

@@ -3,6 +3,7 @@
 
 pub mod monolithic;
 pub mod partitioned;
+pub mod sample;
 
 use crate::newmark::Newmark;
 use crate::track::{rail_motion, RailProfile};

@@ -1,0 +1,60 @@
+//! The monolithic solver's state as a response [`Sample`] (what the recorder of both
+//! solvers takes): deck response at the probes, car-body accelerations, wheelset forces.
+//!
+//! The deck at a probe x is `u(x) = Σ_n φ_n(x) q_n` (lateral, vertical, torsion at the shear
+//! centre), its acceleration `Σ_n φ_n(x) q̈_n`; the shapes `φ_n(x)` are evaluated once.
+
+use super::partitioned::ProbeValues;
+use super::Monolithic;
+use crate::bridge::ModalBridge;
+use crate::response::Sample;
+
+/// Deck shapes `φ_n(x)` at the probes, evaluated once.
+#[derive(Debug, Clone)]
+pub struct ProbeShapes(Vec<Vec<[f64; 3]>>);
+
+impl ProbeShapes {
+    /// The shapes of `bridge` at the probe positions `x` (m).
+    pub fn new(bridge: &ModalBridge, x: &[f64]) -> Self {
+        ProbeShapes(
+            x.iter()
+                .map(|&x| {
+                    let mut sh = vec![[0.0; 3]; bridge.n_modes()];
+                    bridge.deck_shapes(x, &mut sh);
+                    sh
+                })
+                .collect(),
+        )
+    }
+
+    /// The probe values for modal coordinates `q` and accelerations `qdd`.
+    pub fn values(&self, q: &[f64], qdd: &[f64]) -> Vec<ProbeValues> {
+        self.0
+            .iter()
+            .map(|sh| ProbeValues::from_shapes(sh, q, qdd))
+            .collect()
+    }
+}
+
+impl Monolithic {
+    /// The response at the current time.
+    pub fn sample(&self, probes: &ProbeShapes) -> Sample {
+        Sample {
+            t: self.t,
+            probes: probes.values(self.q.as_slice(), self.qdd.as_slice()),
+            vehicles: self
+                .train
+                .vehicles
+                .iter()
+                .zip(&self.vehicles)
+                .map(|(tv, s)| {
+                    [
+                        tv.model.body.lateral.map(|i| s.vdd[i]),
+                        tv.model.body.vertical.map(|i| s.vdd[i]),
+                    ]
+                })
+                .collect(),
+            forces: self.forces.clone(),
+        }
+    }
+}
