@@ -286,10 +286,29 @@ fn wheelset_forces_are_static_in_the_quasi_static_limit() {
         assert!(df.norm() < 1e-9 * v.wheelsets[0].p0.z, "ΔF = {df:?}");
     }
     // Track twist: F_y and F_z stay static, M_x does not.
-    let dfs = run([1.2e-3, -0.8e-3, 0.3e-3, 0.9e-3]);
+    let thetas = [1.2e-3, -0.8e-3, 0.3e-3, 0.9e-3];
+    let dfs = run(thetas);
     for df in &dfs {
         assert!(df.x.abs() < 1e-9 * v.wheelsets[0].p0.z, "ΔF_y = {}", df.x);
         assert!(df.z.abs() < 1e-9 * v.wheelsets[0].p0.z, "ΔF_z = {}", df.z);
     }
-    assert!(dfs.iter().all(|df| df.y.abs() > 1.0));
+    // Each wheelset hangs on its two primary vertical springs 0.5·k1v at y = ±a, so its roll
+    // moment on the rail is M_x,l = −k1v a² (θ_l − θ_bogie): in the difference of a bogie's
+    // two wheelsets θ_bogie cancels, whatever the bogie and car body do.
+    let roll = p.k1v_n_m * p.a_m * p.a_m;
+    for (front, rear) in [(0, 1), (2, 3)] {
+        let got = dfs[front].y - dfs[rear].y;
+        let want = -roll * (thetas[front] - thetas[rear]);
+        println!("ΔM_x{front} − ΔM_x{rear} = {got:.6} N·m, −k1v a² Δθ = {want:.6} N·m");
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "ΔM_x{front} − ΔM_x{rear} = {got} N·m vs −k1v a² Δθ = {want} N·m"
+        );
+    }
+    // Roll equilibrium of the whole vehicle (ΔF_y = ΔF_z = 0 above, and every spring acts
+    // between coincident points): the moment changes cancel.
+    let sum: f64 = dfs.iter().map(|df| df.y).sum();
+    let scale = roll * (thetas[0] - thetas[1]).abs();
+    println!("Σ ΔM_x = {sum:e} N·m");
+    assert!(sum.abs() <= 1e-9 * scale, "Σ ΔM_x = {sum} N·m");
 }

@@ -124,5 +124,7 @@ fn converged_partitions_equal_monolithic() {
         "max relative difference {max_rel:e}, mean iterations {}",
         total_iters as f64 / steps as f64
     );
-    assert!(max_rel < 1e-9, "partitioned vs monolithic: {max_rel:e}");
+    // Measured 3.4e-12 (2.7e-12 on an earlier build: round-off under the 1e-13 interface
+    // residual, so it moves with the code); bound about 3× the measurement.
+    assert!(max_rel < 1e-11, "partitioned vs monolithic: {max_rel:e}");
 }

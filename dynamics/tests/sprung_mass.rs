@@ -131,6 +131,10 @@ fn newmark(v: f64, dt: f64) -> (Peaks, Monolithic) {
     (p, sol)
 }
 
+/// Relative tolerance on the peaks. Measured (release build): largest error 7.8e-5 (vehicle
+/// acceleration at 50 km/h), midspan ≤ 3.9e-5; bound about 2× that.
+const PEAK_TOL: f64 = 1.5e-4;
+
 #[test]
 fn yang_yau_peaks_match_independent_integration() {
     for kmh in [50.0, 100.0, 200.0, 300.0] {
@@ -146,9 +150,14 @@ fn yang_yau_peaks_match_independent_integration() {
             "{kmh} km/h: mid {:.6e} vs {:.6e} ({e_mid:.2e}), acc {:.6e} vs {:.6e} ({e_acc:.2e})",
             p.mid, r.mid, p.acc, r.acc
         );
-        assert!(e_mid < 0.005, "{kmh} km/h midspan: {} vs {}", p.mid, r.mid);
         assert!(
-            e_acc < 0.005,
+            e_mid < PEAK_TOL,
+            "{kmh} km/h midspan: {} vs {}",
+            p.mid,
+            r.mid
+        );
+        assert!(
+            e_acc < PEAK_TOL,
             "{kmh} km/h vehicle acceleration: {} vs {}",
             p.acc,
             r.acc

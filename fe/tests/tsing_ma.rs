@@ -31,7 +31,8 @@ fn fixture() -> &'static Fixture {
     })
 }
 
-/// Measured frequencies of Tsing Ma (domain notes §3); the model must be within 5 %.
+/// Measured frequencies of Tsing Ma (domain notes §3); the model must be within
+/// `FREQ_TOL`.
 const TARGETS: [(&str, f64); 6] = [
     ("L-S-1", 0.069),
     ("V-A-1", 0.113),
@@ -41,16 +42,25 @@ const TARGETS: [(&str, f64); 6] = [
     ("T-S-1", 0.267),
 ];
 
+/// Relative tolerance on the six calibration frequencies. Measured: largest error +2.01 %
+/// (V-A-1; then T-S-1 +1.63 %, L-A-1 +0.81 %, the rest ≤ 0.25 %); bound about 2× that.
+const FREQ_TOL: f64 = 0.04;
+
 #[test]
-fn six_calibration_frequencies_within_five_percent() {
+fn six_calibration_frequencies_within_four_percent() {
     let modal = &fixture().modal;
     for (label, target) in TARGETS {
         let m = modal
             .by_label(label)
             .unwrap_or_else(|| panic!("no mode {label}: {:?}", modal.labels()));
         let err = m.frequency_hz / target - 1.0;
+        println!(
+            "{label}: {:.5} Hz vs {target} Hz ({:+.2} %)",
+            m.frequency_hz,
+            100.0 * err
+        );
         assert!(
-            err.abs() <= 0.05,
+            err.abs() <= FREQ_TOL,
             "{label}: {:.4} Hz vs {target} Hz ({:+.1} %)",
             m.frequency_hz,
             100.0 * err
@@ -66,11 +76,12 @@ fn six_calibration_frequencies_within_five_percent() {
 }
 
 /// The paper uses "the first 20 modes, up to 0.38 Hz"; the model's 20 lowest modes (cable
-/// and tower modes included) lie below 0.4 Hz.
+/// and tower modes included) lie below 0.39 Hz (measured: 20th 0.3891 Hz, 21st 0.3936 Hz).
 #[test]
-fn first_twenty_modes_below_0_4_hz() {
+fn first_twenty_modes_below_0_39_hz() {
     let f = fixture().modal.frequencies_hz();
-    assert!(f[19] < 0.4, "20th mode at {} Hz", f[19]);
+    println!("20th mode {:.5} Hz, 21st {:.5} Hz", f[19], f[20]);
+    assert!(f[19] < 0.39, "20th mode at {} Hz", f[19]);
     assert!(f.windows(2).all(|w| w[1] >= w[0]));
 }
 
@@ -220,8 +231,8 @@ fn train_axles() -> Vec<(f64, f64)> {
 
 /// The paper's Table 2 implies a quasi-static deck deflection of about 0.48–0.5 m under the
 /// crush-loaded 8-coach train at the response points A–D (49.4 cm at 20 km/h): the maximum
-/// over train positions must be 0.45–0.52 m at each point. Loads at the track, e = 2.05 m
-/// off the shear centre.
+/// over train positions must be 0.46–0.49 m at each point (measured 0.4636–0.4801 m). Loads
+/// at the track, e = 2.05 m off the shear centre.
 #[test]
 fn static_deflection_under_eight_coach_train() {
     let fx = fixture();
@@ -245,8 +256,9 @@ fn static_deflection_under_eight_coach_train() {
             max = max.max(solver.deck_deflection(&loads, &[xp]).unwrap()[0].vertical);
             front += 1.0;
         }
+        println!("x = {xp} m: max static deflection {max:.5} m");
         assert!(
-            (0.45..=0.52).contains(&max),
+            (0.46..=0.49).contains(&max),
             "x = {xp} m: max deflection {max:.4} m"
         );
     }
@@ -272,7 +284,7 @@ fn deck_mode_helper_returns_the_lowest_deck_modes() {
             .find(|m| m.label == label)
             .unwrap_or_else(|| panic!("no mode {label} among the deck modes"));
         assert!(
-            (m.frequency_hz / target - 1.0).abs() <= 0.05,
+            (m.frequency_hz / target - 1.0).abs() <= FREQ_TOL,
             "{label}: {:.4} Hz vs {target} Hz",
             m.frequency_hz
         );

@@ -249,7 +249,8 @@ fn sample_sigma_matches_the_integral_of_the_psd() {
                 "sigma {s:>18} {c:>10?}: sample {got:.6e} reference {want:.6e} error {:+.4} %",
                 100.0 * err
             );
-            assert!(err.abs() < 0.03, "{s} {c:?}: σ {got} vs {want}");
+            // Measured: |error| ≤ 0.0049 % (fra-1/fra-5 lateral and vertical); bound ≈ 2×.
+            assert!(err.abs() < 1e-4, "{s} {c:?}: σ {got} vs {want}");
         }
     }
 }
@@ -269,7 +270,8 @@ fn sample_sigma_matches_for_a_narrow_band() {
             "sigma chinese 5–40 m {c:?}: error {:+.4} %",
             100.0 * (got / want - 1.0)
         );
-        assert!((got / want - 1.0).abs() < 0.03, "{c:?}: σ {got} vs {want}");
+        // Measured: |error| ≤ 0.0096 % (cross-level); bound ≈ 2×.
+        assert!((got / want - 1.0).abs() < 2e-4, "{c:?}: σ {got} vs {want}");
     }
 }
 

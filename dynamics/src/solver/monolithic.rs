@@ -29,8 +29,8 @@
 //! where `Uᵢ` stacks the `Ψ_w` of vehicle i's wheelsets and `D̂ = diag(a0 + a1 2ζω + ω²)`. The
 //! cost per step is `O(n_wheelsets · N_b²)` for the reduced matrix plus one `N_b × N_b`
 //! Cholesky solve — independent of how many vehicle DOFs there are beyond the constant
-//! per-vehicle back-substitutions. [`assemble_eq14`] builds the full matrices of eq. (14)
-//! explicitly; the tests check that both give the same solution.
+//! per-vehicle back-substitutions. The tests check that this gives the same solution as a
+//! dense solve of the explicitly assembled matrices of eq. (14).
 
 use super::{rail_prescribed, VehicleState};
 use crate::bridge::ModalBridge;
@@ -588,108 +588,4 @@ fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
                 .collect()
         })
         .collect()
-}
-
-/// The full matrices of eq. (14) at time `t` for the given solver's geometry:
-/// `(M, C, K, F)` over `(v_1, …, v_Nv, q)`. Used to check the structured solver.
-pub fn assemble_eq14(sol: &Monolithic) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, DVector<f64>) {
-    let nb = sol.q.len();
-    let nv: usize = sol.train.vehicles.iter().map(|v| v.model.ndof()).sum();
-    let dim = nv + nb;
-    let mut m = DMatrix::zeros(dim, dim);
-    let mut c = DMatrix::zeros(dim, dim);
-    let mut k = DMatrix::zeros(dim, dim);
-    let mut f = DVector::zeros(dim);
-    let mut off = Vec::new();
-    let mut o = 0;
-    for tv in &sol.train.vehicles {
-        let n = tv.model.ndof();
-        off.push(o);
-        m.view_mut((o, o), (n, n)).copy_from(&tv.model.m);
-        c.view_mut((o, o), (n, n)).copy_from(&tv.model.c);
-        k.view_mut((o, o), (n, n)).copy_from(&tv.model.k);
-        o += n;
-    }
-    for n in 0..nb {
-        m[(nv + n, nv + n)] = 1.0;
-        c[(nv + n, nv + n)] = 2.0 * sol.zeta[n] * sol.omega[n];
-        k[(nv + n, nv + n)] = sol.omega[n].powi(2);
-    }
-    for (w, ws) in sol.wheelsets.iter().enumerate() {
-        let model = &sol.train.vehicles[ws.vehicle].model;
-        let cw = &model.wheelsets[ws.local];
-        let n = model.ndof();
-        let ov = off[ws.vehicle];
-        let psi = DMatrix::from_fn(3, nb, |r, j| sol.psi_w(w)[j][r]);
-        let [r, rd, rdd] = sol.presc[w];
-        let mw = DMatrix::from_iterator(3, 3, cw.m_w.iter().copied());
-        let kww = DMatrix::from_iterator(3, 3, cw.k_ww.iter().copied());
-        let cww = DMatrix::from_iterator(3, 3, cw.c_ww.iter().copied());
-        let bridge = |mat: &mut DMatrix<f64>, blk: &DMatrix<f64>| {
-            let add = psi.transpose() * blk * &psi;
-            let mut v = mat.view_mut((nv, nv), (nb, nb));
-            v += add;
-        };
-        bridge(&mut m, &mw);
-        bridge(&mut k, &kww);
-        bridge(&mut c, &cww);
-        if n > 0 {
-            let kvb = &cw.k_vw * &psi;
-            let cvb = &cw.c_vw * &psi;
-            let mut v = k.view_mut((ov, nv), (n, nb));
-            v += &kvb;
-            let mut v = k.view_mut((nv, ov), (nb, n));
-            v += kvb.transpose();
-            let mut v = c.view_mut((ov, nv), (n, nb));
-            v += &cvb;
-            let mut v = c.view_mut((nv, ov), (nb, n));
-            v += cvb.transpose();
-            let fv = -(&cw.k_vw * r + &cw.c_vw * rd);
-            let mut v = f.rows_mut(ov, n);
-            v += fv;
-        }
-        let fb = cw.p0 - cw.m_w * rdd - cw.c_ww * rd - cw.k_ww * r;
-        let add = psi.transpose() * DVector::from_column_slice(fb.as_slice());
-        let mut v = f.rows_mut(nv, nb);
-        v += add;
-    }
-    (m, c, k, f)
-}
-
-/// Advance the full eq. (14) by one Newmark step with a dense solve (reference for tests):
-/// returns the new `(x, ẋ, ẍ)` over `(v, q)` given the solver's current state, with the
-/// matrices evaluated at `t + dt` by calling [`Monolithic::step`]-equivalent geometry.
-pub fn dense_reference_step(sol: &mut Monolithic) -> DVector<f64> {
-    let nm = sol.nm;
-    let (x0, xd0, xdd0) = sol.stacked_state();
-    let t1 = sol.t + nm.h;
-    sol.update_geometry(t1);
-    let (m, c, k, f) = assemble_eq14(sol);
-    let khat = nm.a0 * &m + nm.a1 * &c + &k;
-    let rhs = f + &m * (nm.a0 * &x0 + nm.a2 * &xd0 + &xdd0) + &c * (nm.a1 * &x0 + &xd0);
-    khat.lu()
-        .solve(&rhs)
-        .expect("eq. (14) Newmark matrix is regular")
-}
-
-impl Monolithic {
-    /// `(x, ẋ, ẍ)` stacked over `(v_1, …, v_Nv, q)`.
-    pub fn stacked_state(&self) -> (DVector<f64>, DVector<f64>, DVector<f64>) {
-        let mut x = Vec::new();
-        let mut xd = Vec::new();
-        let mut xdd = Vec::new();
-        for v in &self.vehicles {
-            x.extend(v.v.iter());
-            xd.extend(v.vd.iter());
-            xdd.extend(v.vdd.iter());
-        }
-        x.extend(self.q.iter());
-        xd.extend(self.qd.iter());
-        xdd.extend(self.qdd.iter());
-        (
-            DVector::from_vec(x),
-            DVector::from_vec(xd),
-            DVector::from_vec(xdd),
-        )
-    }
 }

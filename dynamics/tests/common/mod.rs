@@ -1,5 +1,7 @@
 #![allow(dead_code)]
 //! Shared helpers for the dynamics tests.
+pub mod eq14;
+
 use std::sync::Arc;
 use tbi_dynamics::bridge::{ModalBridge, SimplySupported};
 use tbi_dynamics::train::{Train, TrainVehicle};
