@@ -7,12 +7,14 @@ mod fmu_support;
 use fmu_support::*;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use tbi_tests::{scratch, tbi_in, text, TextCsv};
 use zip::write::SimpleFileOptions;
 
 /// Run `tbi simulate FMU --output out.csv` in the FMU's directory; expect failure.
 fn refused(fmu: &Path) -> String {
     let dir = fmu.parent().unwrap();
-    let run = tbi(
+    let run = tbi_in(
+        dir,
         &[
             "simulate",
             fmu.file_name().unwrap().to_str().unwrap(),
@@ -20,7 +22,6 @@ fn refused(fmu: &Path) -> String {
             "out.csv",
             "--quiet",
         ],
-        dir,
     );
     let stderr = text(&run.stderr);
     assert_eq!(
@@ -48,7 +49,7 @@ fn zip_with(dir: &Path, name: &str, entries: &[(&str, &[u8])]) -> PathBuf {
 
 #[test]
 fn corrupt_zip() {
-    let dir = scratch_dir("corrupt");
+    let dir = scratch("corrupt");
     let fmu = dir.join("Corrupt.fmu");
     let good = build_fmu(&Variant::new("ToCorrupt"));
     let mut bytes = std::fs::read(good).unwrap();
@@ -63,7 +64,7 @@ fn corrupt_zip() {
 
 #[test]
 fn not_a_zip_at_all() {
-    let dir = scratch_dir("text");
+    let dir = scratch("text");
     let fmu = dir.join("Text.fmu");
     std::fs::write(&fmu, "this is a text file").unwrap();
     assert!(refused(&fmu).contains("Text.fmu: not a valid zip archive"));
@@ -71,7 +72,7 @@ fn not_a_zip_at_all() {
 
 #[test]
 fn path_traversal_entry() {
-    let dir = scratch_dir("traversal");
+    let dir = scratch("traversal");
     let nested = dir.join("a/b");
     std::fs::create_dir_all(&nested).unwrap();
     let xml = model_description_xml(&Variant::new("x"));
@@ -93,7 +94,7 @@ fn path_traversal_entry() {
 
 #[test]
 fn absolute_entry() {
-    let dir = scratch_dir("absolute");
+    let dir = scratch("absolute");
     let fmu = zip_with(
         &dir,
         "Absolute.fmu",
@@ -108,7 +109,7 @@ fn absolute_entry() {
 
 #[test]
 fn no_linux64_binary() {
-    let dir = scratch_dir("nolinux");
+    let dir = scratch("nolinux");
     let xml = model_description_xml(&Variant::new("x"));
     let fmu = zip_with(
         &dir,
@@ -127,7 +128,7 @@ fn no_linux64_binary() {
 
 #[test]
 fn binary_that_is_not_a_library() {
-    let dir = scratch_dir("notelf");
+    let dir = scratch("notelf");
     let xml = model_description_xml(&Variant::new("x"));
     let fmu = zip_with(
         &dir,
@@ -156,7 +157,7 @@ fn missing_symbol() {
 
 #[test]
 fn invalid_xml() {
-    let dir = scratch_dir("badxml");
+    let dir = scratch("badxml");
     let xml = model_description_xml(&Variant::new("x"));
     let broken = xml.replace("</ModelVariables>", "</ModelVariable>");
     let fmu = zip_with(
@@ -185,7 +186,7 @@ fn invalid_attribute_value() {
 /// Package a variant whose description the packager would refuse, by writing the zip
 /// directly.
 fn build_fmu_unchecked(variant: &Variant) -> PathBuf {
-    let dir = scratch_dir(&variant.name);
+    let dir = scratch(&variant.name);
     let so = compile(variant, &dir);
     let xml = model_description_xml(variant);
     let library = std::fs::read(so).unwrap();
@@ -202,7 +203,7 @@ fn build_fmu_unchecked(variant: &Variant) -> PathBuf {
 
 #[test]
 fn no_model_description() {
-    let dir = scratch_dir("nomd");
+    let dir = scratch("nomd");
     let fmu = zip_with(&dir, "Empty.fmu", &[("resources/gain.txt", b"1")]);
     let e = refused(&fmu);
     assert!(
@@ -258,7 +259,7 @@ fn discard_without_termination_stops_cleanly() {
         e.contains("Discards.fmu: fmi2DoStep returned fmi2Discard at t=0.5 without requesting termination; the simulation stopped there (results up to t=0.5 were written to out.csv)"),
         "{e}"
     );
-    let csv = read_csv(&fmu.parent().unwrap().join("out.csv"));
+    let csv = TextCsv::read(&fmu.parent().unwrap().join("out.csv"));
     assert_eq!(csv.rows.len(), 51);
     assert_eq!(csv.rows.last().unwrap()[0], "0.5");
 }
@@ -271,12 +272,12 @@ fn discard_with_termination_ends_normally() {
             .define("-DDISCARD_TERMINATE=1"),
     );
     let dir = fmu.parent().unwrap();
-    let run = tbi(&["simulate", "Terminates.fmu", "--output", "out.csv"], dir);
+    let run = tbi_in(dir, &["simulate", "Terminates.fmu", "--output", "out.csv"]);
     let stderr = text(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     assert!(stderr.contains("[oscillator] fmi2Discard [logStatusDiscard] end of the model's data reached at t=0.505"), "{stderr}");
     assert!(stderr.contains("tbi: Terminates.fmu: the FMU requested termination at t=0.505; the simulation ended there"), "{stderr}");
-    let csv = read_csv(&dir.join("out.csv"));
+    let csv = TextCsv::read(&dir.join("out.csv"));
     assert_eq!(csv.rows.last().unwrap()[0], "0.505");
 }
 

@@ -6,12 +6,12 @@
 
 mod cli_support;
 
-use cli_support::{
-    assert_same_history, data, data_text, number_after, read_summary, require_fmu_libraries, run,
-    scratch, tbi_with, History, Scenario,
-};
+use cli_support::{data, data_text, number_after, run, Scenario};
 use std::f64::consts::PI;
 use std::path::Path;
+use tbi_tests::{
+    assert_same_table, read_summary, require_fmu_libraries, scratch, tbi_command, Table,
+};
 
 /// The example (`tests/data/yang-yau.toml`, verbatim).
 fn example() -> String {
@@ -389,7 +389,7 @@ fn cli_bad_input_is_refused_with_field_value_and_file() {
 
     // a scenario path that does not exist
     let missing = dir.join("no-such-scenario.toml");
-    let o = tbi_with(&[
+    let o = tbi_tests::run(tbi_command().args([
         "run",
         missing.to_str().unwrap(),
         "--solver",
@@ -397,7 +397,7 @@ fn cli_bad_input_is_refused_with_field_value_and_file() {
         "--quiet",
         "--out",
         dir.join("out-missing").to_str().unwrap(),
-    ]);
+    ]));
     if let Err(e) = check_failure(
         "nonexistent scenario",
         o.status,
@@ -407,7 +407,7 @@ fn cli_bad_input_is_refused_with_field_value_and_file() {
         failures.push(e);
     }
     // an unknown solver name
-    let o = tbi_with(&[
+    let o = tbi_tests::run(tbi_command().args([
         "run",
         data("yang-yau.toml").to_str().unwrap(),
         "--solver",
@@ -415,7 +415,7 @@ fn cli_bad_input_is_refused_with_field_value_and_file() {
         "--quiet",
         "--out",
         dir.join("out-solver").to_str().unwrap(),
-    ]);
+    ]));
     if let Err(e) = check_failure(
         "unknown --solver",
         o.status,
@@ -664,7 +664,7 @@ fn cli_failed_cosim_leaves_partial_results() {
     check_summary_keys(&s, &["mid"]);
 
     // rows 0, dt, …, t_fail: the state before the failing step
-    let h: History = r.history();
+    let h: Table = r.history();
     let dt = 0.001;
     let expected_rows = (t_fail / dt).round() as usize + 1;
     assert_eq!(h.rows.len(), expected_rows, "rows up to t = {t_fail} s");
@@ -681,7 +681,7 @@ fn cli_failed_cosim_leaves_partial_results() {
     mono.expect_ok("monolithic reference");
     let mut reference = mono.history();
     reference.rows.truncate(h.rows.len());
-    assert_same_history(
+    assert_same_table(
         &reference,
         &h,
         1e-6,

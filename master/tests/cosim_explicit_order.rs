@@ -14,7 +14,8 @@
 
 mod cli_support;
 
-use cli_support::{compare, require_fmu_libraries, run, scratch, Scenario};
+use cli_support::{run, Scenario};
+use tbi_tests::{compare, require_fmu_libraries, scratch};
 
 const STEPS_S: [f64; 3] = [1e-3, 5e-4, 2.5e-4];
 const ORDER_RANGE: std::ops::RangeInclusive<f64> = 0.7..=1.5;

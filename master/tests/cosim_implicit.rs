@@ -20,10 +20,8 @@ mod cli_support;
 /// Absolute floor of the interface tolerance (N, N·m, m, m/s).
 const ATOL: f64 = 1e-12;
 
-use cli_support::{
-    assert_same_history, compare, number_after, require_fmu_libraries, run, scratch, worst,
-    History, Scenario,
-};
+use cli_support::{number_after, run, Scenario};
+use tbi_tests::{assert_same_table, compare, require_fmu_libraries, scratch, worst, Table};
 
 /// Bound of max |cosim − monolithic| / max |monolithic| in every column.
 const TOL: f64 = 1e-8;
@@ -87,7 +85,7 @@ struct Outcome {
     coupling: serde_json::Value,
     /// Worst column and its max |cosim − monolithic| / max |monolithic| (successful runs).
     error: Option<(String, f64)>,
-    history: Option<History>,
+    history: Option<Table>,
 }
 
 impl Outcome {
@@ -100,7 +98,7 @@ impl Outcome {
 
 /// Runs `scenario` monolithically and with each method; returns the monolithic history and
 /// the outcomes.
-fn run_case(label: &str, scenario: &Scenario, methods: &[&Method]) -> (History, Vec<Outcome>) {
+fn run_case(label: &str, scenario: &Scenario, methods: &[&Method]) -> (Table, Vec<Outcome>) {
     require_fmu_libraries();
     let dir = scratch(label);
     let path = scenario.write(&dir, "scenario.toml");
@@ -204,13 +202,13 @@ fn table(case: &str, outcomes: &[Outcome]) -> String {
     s
 }
 
-fn equivalent(reference: &History, o: &Outcome, case: &str) {
+fn equivalent(reference: &Table, o: &Outcome, case: &str) {
     assert!(
         o.ok,
         "{case}, {}: co-simulation failed:\n{}",
         o.label, o.stderr
     );
-    assert_same_history(
+    assert_same_table(
         reference,
         o.history.as_ref().expect("history"),
         TOL,

@@ -4,16 +4,18 @@
 //!
 //! The FMPy venv comes from tests/python/setup-venv.sh; if it cannot be created the tests
 //! fail, unless TBI_SKIP_PYTHON=1 is set, in which case only the tbi side runs (and is
-//! still checked for its own invariants).
+//! still checked for its own invariants, the free responses against their closed form).
 
 mod fmu_support;
 
 use fmu_support::*;
 use std::path::Path;
+use tbi_tests::fmpy::{self, fmpy};
+use tbi_tests::{assert_text_csv_match, run, tbi_in, text, TextCsv};
 
 /// Run both tools on `fmu` and compare. `tbi_args` / `fmpy_args` are the extra options
 /// in each tool's spelling. Returns tbi's CSV.
-fn compare(fmu: &Path, tbi_args: &[&str], fmpy_args: &[&str]) -> Csv {
+fn compare(fmu: &Path, tbi_args: &[&str], fmpy_args: &[&str]) -> TextCsv {
     let dir = fmu.parent().unwrap();
     let tbi_out = dir.join("tbi_out.csv");
     let mut args = vec![
@@ -23,14 +25,14 @@ fn compare(fmu: &Path, tbi_args: &[&str], fmpy_args: &[&str]) -> Csv {
         tbi_out.to_str().unwrap(),
     ];
     args.extend_from_slice(tbi_args);
-    let run = tbi(&args, dir);
+    let out = tbi_in(dir, &args);
     assert!(
-        run.status.success(),
+        out.status.success(),
         "tbi {args:?} failed:\n{}",
-        text(&run.stderr)
+        text(&out.stderr)
     );
-    let ours = read_csv(&tbi_out);
-    if let Some(venv) = fmpy_venv() {
+    let ours = TextCsv::read(&tbi_out);
+    if let Some(venv) = fmpy::venv() {
         let fmpy_out = dir.join("fmpy_out.csv");
         let mut args = vec![
             fmu.to_str().unwrap(),
@@ -38,15 +40,16 @@ fn compare(fmu: &Path, tbi_args: &[&str], fmpy_args: &[&str]) -> Csv {
             fmpy_out.to_str().unwrap(),
         ];
         args.extend_from_slice(fmpy_args);
-        let run = fmpy(&venv, &args, dir);
+        let out = run(fmpy(venv).arg("simulate").args(&args).current_dir(dir));
         assert!(
-            run.status.success(),
+            out.status.success(),
             "fmpy simulate {args:?} failed:\n{}{}",
-            text(&run.stdout),
-            text(&run.stderr)
+            text(&out.stdout),
+            text(&out.stderr)
         );
-        let theirs = read_csv(&fmpy_out);
-        assert_csv_match(&ours, &theirs);
+        let theirs = TextCsv::read(&fmpy_out);
+        // tbi's CSV first, FMPy's second: numbers equal to 1e-9 (relative to max(1, |FMPy|))
+        assert_text_csv_match(&ours, &theirs, 1e-9);
         // Both run the same binary with the same communication points, so even the text
         // (number formatting included) is the same.
         assert_eq!(
@@ -58,8 +61,100 @@ fn compare(fmu: &Path, tbi_args: &[&str], fmpy_args: &[&str]) -> Csv {
     ours
 }
 
-fn times(csv: &Csv) -> Vec<f64> {
+fn times(csv: &TextCsv) -> Vec<f64> {
     csv.rows.iter().map(|r| r[0].parse().unwrap()).collect()
+}
+
+/// The unforced oscillator of tests/c-fmu/oscillator.c, `m x'' + d x' + k x = 0`, released
+/// at rest from `x0` (the FMU starts from v = 0): underdamped, so with ωn = √(k/m),
+/// ζ = d / (2√(k m)), σ = ζ ωn and ωd = ωn √(1 − ζ²):
+/// `x(t) = x0 e^{−σt} (cos ωd t + σ/ωd sin ωd t)` and
+/// `v(t) = −x0 (ωn²/ωd) e^{−σt} sin ωd t`.
+struct FreeResponse {
+    m: f64,
+    k: f64,
+    d: f64,
+    x0: f64,
+}
+
+impl FreeResponse {
+    /// (x(t), v(t)).
+    fn at(&self, t: f64) -> (f64, f64) {
+        let wn = (self.k / self.m).sqrt();
+        let zeta = self.d / (2.0 * (self.k * self.m).sqrt());
+        assert!(zeta < 1.0, "underdamped");
+        let sigma = zeta * wn;
+        let wd = wn * (1.0 - zeta * zeta).sqrt();
+        let (s, c) = (wd * t).sin_cos();
+        let e = (-sigma * t).exp();
+        (
+            self.x0 * e * (c + sigma / wd * s),
+            -self.x0 * wn * wn / wd * e * s,
+        )
+    }
+}
+
+/// Bounds of |x − x(t)| (m) and |v − v(t)| (m/s) over every row of a free run.
+///
+/// The FMU integrates with classical RK4 on a 1 ms grid (h). Its error here is RK4's phase
+/// lag, not round-off: ωn t (ωn h)⁴ / 120 radians after t, so |x − x(t)| grows like
+/// |x0| e^{−σt} ωn t (ωn h)⁴ / 120 and |v − v(t)| like ωn times that (4.4e-13 m and
+/// 2.6e-12 m at t = 3 s for the two runs below, measured 3.8e-13 m and 2.3e-12 m; a Python
+/// replica of the C integrator gives the measured values to within 5 %). Each test's bounds
+/// are about twice the errors measured once over its 301 rows.
+struct Tolerance {
+    x: f64,
+    v: f64,
+}
+
+/// Asserts every row of a free run's CSV (`time,x,v,steps,moving_right`, a row at the start
+/// and after each DoStep) against the closed form: x and v within `tol`, the step counter
+/// equal to the row number, and `moving_right` ⇔ v > 0 (against the sign of the closed form
+/// too where |v(t)| is clear of the tolerance).
+fn assert_free_response(csv: &TextCsv, osc: &FreeResponse, tol: Tolerance) {
+    assert_eq!(
+        csv.header,
+        "\"time\",\"x\",\"v\",\"steps\",\"moving_right\""
+    );
+    let (mut ex, mut ev) = (0.0_f64, 0.0_f64);
+    for (i, r) in csv.rows.iter().enumerate() {
+        let num = |j: usize| -> f64 {
+            r[j].parse()
+                .unwrap_or_else(|e| panic!("row {i}, column {j}: {:?}: {e}", r[j]))
+        };
+        let (t, x, v) = (num(0), num(1), num(2));
+        let (xe, ve) = osc.at(t);
+        ex = ex.max((x - xe).abs());
+        ev = ev.max((v - ve).abs());
+        assert!(
+            (x - xe).abs() <= tol.x,
+            "row {i}, t = {t}: x = {x}, closed form {xe} (difference {:e})",
+            x - xe
+        );
+        assert!(
+            (v - ve).abs() <= tol.v,
+            "row {i}, t = {t}: v = {v}, closed form {ve} (difference {:e})",
+            v - ve
+        );
+        assert_eq!(r[3], i.to_string(), "row {i}: steps");
+        let moving_right = match r[4].as_str() {
+            "True" => true,
+            "False" => false,
+            other => panic!("row {i}: moving_right = {other:?}"),
+        };
+        assert_eq!(
+            moving_right,
+            v > 0.0,
+            "row {i}, t = {t}: moving_right, v = {v}"
+        );
+        if ve.abs() > 10.0 * tol.v {
+            assert_eq!(moving_right, ve > 0.0, "row {i}, t = {t}: v(t) = {ve}");
+        }
+    }
+    println!(
+        "max |x − x(t)| = {ex:e}, max |v − v(t)| = {ev:e} over {} rows",
+        csv.rows.len()
+    );
 }
 
 #[test]
@@ -77,10 +172,20 @@ fn defaults_match_fmpy() {
     assert_eq!(csv.rows[1][0], "0.01");
     assert_eq!(csv.rows[300][0], "3.0");
     assert_eq!(csv.rows[300][3], "300");
-    // x(0) = x0 = 1, free oscillation with ω ≈ 2 rad/s
+    // x(0) = x0 = 1, then the free oscillation of m = 1, k = 4, d = 0.4 (ωn = 2 rad/s,
+    // ζ = 0.1; x(3) = 0.505106, v(3) = 0.339950) in every row
     assert_eq!(csv.rows[0][1], "1.0");
-    let x_end: f64 = csv.rows[300][1].parse().unwrap();
-    assert!(x_end.abs() < 1.0);
+    assert_free_response(
+        &csv,
+        &FreeResponse {
+            m: 1.0,
+            k: 4.0,
+            d: 0.4,
+            x0: 1.0,
+        },
+        // measured: 3.8e-13 m, 8.7e-13 m/s
+        Tolerance { x: 8e-13, v: 2e-12 },
+    );
     assert!(csv.rows.iter().any(|r| r[4] == "True") && csv.rows.iter().any(|r| r[4] == "False"));
 }
 
@@ -178,6 +283,24 @@ fn start_values_match_fmpy() {
         ],
     );
     assert_eq!(csv.rows[0][1], "-0.5");
+    // the whole run is the free oscillation with the set parameters (m stays 1): ωn = 3 rad/s,
+    // ζ = 1/60, released from -0.5 over the default experiment, 0–3 s
+    assert_eq!(csv.rows.len(), 301);
+    assert_free_response(
+        &csv,
+        &FreeResponse {
+            m: 1.0,
+            k: 9.0,
+            d: 0.1,
+            x0: -0.5,
+        },
+        // measured: 2.3e-12 m, 7.4e-12 m/s (ωn = 3 and lighter damping: larger than the
+        // defaults')
+        Tolerance {
+            x: 5e-12,
+            v: 1.5e-11,
+        },
+    );
 }
 
 #[test]
@@ -222,9 +345,9 @@ fn termination_requested_by_the_fmu_matches_fmpy() {
 fn default_output_file_and_standard_output() {
     let fmu = build_fmu(&Variant::new("Named"));
     let dir = fmu.parent().unwrap();
-    let run = tbi(
-        &["simulate", "Named.fmu", "--stop-time", "0.1", "--quiet"],
+    let run = tbi_in(
         dir,
+        &["simulate", "Named.fmu", "--stop-time", "0.1", "--quiet"],
     );
     assert!(run.status.success(), "{}", text(&run.stderr));
     assert!(
@@ -232,10 +355,11 @@ fn default_output_file_and_standard_output() {
         "--quiet prints nothing: {}",
         text(&run.stderr)
     );
-    let csv = read_csv(&dir.join("Named_out.csv"));
+    let csv = TextCsv::read(&dir.join("Named_out.csv"));
     assert_eq!(csv.rows.len(), 11);
 
-    let run = tbi(
+    let run = tbi_in(
+        dir,
         &[
             "simulate",
             "Named.fmu",
@@ -244,7 +368,6 @@ fn default_output_file_and_standard_output() {
             "--output",
             "-",
         ],
-        dir,
     );
     assert!(run.status.success(), "{}", text(&run.stderr));
     let stdout = text(&run.stdout);
@@ -275,7 +398,7 @@ fn unusable_arguments_are_refused() {
     for (extra, expected) in cases {
         let mut args = vec!["simulate", "Args.fmu", "--output", "x.csv"];
         args.extend_from_slice(extra);
-        let run = tbi(&args, dir);
+        let run = tbi_in(dir, &args);
         assert_eq!(run.status.code(), Some(1), "{args:?}");
         assert!(
             text(&run.stderr).contains(expected),

@@ -4,18 +4,19 @@
 
 mod common;
 
-use common::{elf, scenarios, Export, Unpacked};
+use common::{elf, scenarios};
 use fmi_import::harness::{run as run_harness, HarnessConfig};
 use fmi_import::{CallStatus, FmiError, Fmu, Instance, InstantiateOptions, Status};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
+use tbi_tests::fmu::{export, unpack, Export, Unpacked};
 
 /// One export of the two-coach scenario (irregular track, torsion), shared by the tests of
 /// this binary.
 fn coach2() -> &'static Export {
     static E: OnceLock<Export> = OnceLock::new();
-    E.get_or_init(|| common::export("abi-coach2", &scenarios::coach2()))
+    E.get_or_init(|| export("abi-coach2", &scenarios::coach2()))
 }
 
 fn load(path: &Path) -> Arc<Fmu> {
@@ -211,7 +212,7 @@ fn train_fmu_state_round_trips_bit_identically() {
 /// Unpack an exported FMU into `<scratch>/<name>` for the harness.
 fn unpacked(fmu: &Path, name: &str) -> Unpacked {
     let dir = coach2().dir.join(name);
-    common::unpack(fmu, &dir)
+    unpack(fmu, &dir)
 }
 
 fn harness(u: &Unpacked, input: &str, output: &str, input_value: f64) {
@@ -319,7 +320,7 @@ fn wrong_guid_or_missing_resource_gives_null_with_a_logged_reason() {
             .expect("stem")
             .to_string_lossy()
             .into_owned();
-        let guid = common::unpack(fmu, &dir.join(format!("{stem}-md"))).md.guid;
+        let guid = unpack(fmu, &dir.join(format!("{stem}-md"))).md.guid;
         // wrong GUID in the description: the importer passes it, the FMU refuses it
         let wrong = dir.join(format!("{stem}-wrong-guid.fmu"));
         repack(
@@ -479,7 +480,7 @@ fn fmu_binaries_need_only_system_libraries() {
         check_dependencies(&u.library);
         checked.push(u.library);
     }
-    let release = common::release_dir();
+    let release = tbi_tests::release_dir();
     for lib in ["libbridge.so", "libtrain.so"] {
         check_dependencies(&release.join(lib));
     }

@@ -9,33 +9,31 @@ mod common;
 
 use common::reference::truncated_series;
 use common::scenarios::{self, FORCE_PROBES_M};
-use common::{run, run_ok, Export, Table};
 use std::path::Path;
 use std::process::Command;
 use std::sync::OnceLock;
+use tbi_tests::fmpy::{self, fmpy, python};
+use tbi_tests::fmu::{export, unpack, Export};
+use tbi_tests::{repo_path, run, run_ok, Table};
 
 fn coach2() -> &'static Export {
     static E: OnceLock<Export> = OnceLock::new();
-    E.get_or_init(|| common::export("fmpy-coach2", &scenarios::coach2()))
+    E.get_or_init(|| export("fmpy-coach2", &scenarios::coach2()))
 }
 
 fn moving_force() -> &'static Export {
     static E: OnceLock<Export> = OnceLock::new();
-    E.get_or_init(|| common::export("fmpy-force", &scenarios::moving_force()))
-}
-
-fn fmpy(venv: &Path) -> Command {
-    Command::new(venv.join("bin/fmpy"))
+    E.get_or_init(|| export("fmpy-force", &scenarios::moving_force()))
 }
 
 #[test]
 fn fmpy_validate_finds_no_problems() {
-    let Some(venv) = common::fmpy_venv() else {
+    let Some(venv) = fmpy::venv() else {
         return;
     };
     for e in [coach2(), moving_force()] {
         for fmu in [&e.bridge, &e.train] {
-            let out = run(fmpy(&venv).arg("validate").arg(fmu));
+            let out = run(fmpy(venv).arg("validate").arg(fmu));
             let stdout = String::from_utf8_lossy(&out.stdout);
             assert!(
                 out.status.success() && stdout.contains("No problems found"),
@@ -63,13 +61,13 @@ fn simulate(venv: &Path, fmu: &Path, csv: &Path, extra: &[&str]) -> Table {
 }
 
 fn outputs(fmu: &Path) -> Vec<String> {
-    let u = common::unpack(fmu, &fmu.with_extension("unpacked"));
+    let u = unpack(fmu, &fmu.with_extension("unpacked"));
     u.md.outputs().map(|v| v.name.clone()).collect()
 }
 
 #[test]
 fn fmpy_simulates_each_fmu_alone() {
-    let Some(venv) = common::fmpy_venv() else {
+    let Some(venv) = fmpy::venv() else {
         return;
     };
     for (e, label) in [(coach2(), "coach2"), (moving_force(), "force")] {
@@ -78,12 +76,17 @@ fn fmpy_simulates_each_fmu_alone() {
                 "{}-alone.csv",
                 fmu.file_stem().unwrap().to_string_lossy()
             ));
-            let table = simulate(&venv, fmu, &csv, &["--stop-time", "0.2"]);
+            let table = simulate(venv, fmu, &csv, &["--stop-time", "0.2"]);
             let want = outputs(fmu);
             assert!(!want.is_empty());
             let mut expected = vec!["time".to_string()];
             expected.extend(want);
-            assert_eq!(table.names, expected, "{label}: {} columns", fmu.display());
+            assert_eq!(
+                table.columns,
+                expected,
+                "{label}: {} columns",
+                fmu.display()
+            );
             assert_eq!(table.rows.len(), 101, "{label}: rows of {}", csv.display());
             assert!((table.rows[100][0] - 0.2).abs() < 1e-12);
             assert!(table.rows.iter().flatten().all(|v| v.is_finite()));
@@ -102,7 +105,7 @@ fn fmpy_simulates_each_fmu_alone() {
 
 #[test]
 fn fmpy_bridge_with_an_input_file_settles_to_the_static_deflection() {
-    let Some(venv) = common::fmpy_venv() else {
+    let Some(venv) = fmpy::venv() else {
         return;
     };
     let e = moving_force();
@@ -117,7 +120,7 @@ fn fmpy_bridge_with_an_input_file_settles_to_the_static_deflection() {
     .expect("write input file");
     let csv = e.dir.join("static-fmpy.csv");
     let table = simulate(
-        &venv,
+        venv,
         &e.bridge,
         &csv,
         &[
@@ -173,16 +176,16 @@ fn monolithic(dir: &Path, h: f64) -> Table {
 
 #[test]
 fn fmpy_ssp_simulation_converges_to_the_monolithic_solution_at_first_order() {
-    let Some(venv) = common::fmpy_venv() else {
+    let Some(venv) = fmpy::venv() else {
         return;
     };
     // One export: the FMUs do not depend on the scenario's dt (each DoStep is one Newmark
     // step of the size the master asks for).
-    let e = common::export("fmpy-ssp", &scenarios::sprung_mass(STEPS[0]));
+    let e = export("fmpy-ssp", &scenarios::sprung_mass(STEPS[0]));
     let ssp_dir = e.dir.join("ssp");
     let columns = ["bridge.probe[1].z", "train.ws[1].F_z"];
-    let script = common::repo_root().join("tests/python/ssp_run.py");
-    let mut cmd = Command::new(venv.join("bin/python"));
+    let script = repo_path("tests/python/ssp_run.py");
+    let mut cmd = python(venv);
     cmd.arg(&script)
         .arg(&e.ssp)
         .args(["--stop-time", &T_CMP.to_string(), "--step-size"])

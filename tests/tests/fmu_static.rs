@@ -15,6 +15,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 use tbi_dynamics::bridge::Shapes;
 use tbi_dynamics::interface::BridgeResources;
+use tbi_tests::fmu::{export, vr_of};
 
 fn instantiate(fmu: &Arc<Fmu>, name: &str) -> Instance {
     fmu.instantiate(&InstantiateOptions {
@@ -32,7 +33,7 @@ fn get(inst: &mut Instance, vr: u32) -> f64 {
 }
 
 fn vr(fmu: &Fmu, name: &str) -> u32 {
-    common::vr_of(fmu.model_description(), name)
+    vr_of(fmu.model_description(), name)
 }
 
 /// Σₙ φₙ(x) φₙ(a) (generalised force)ₙ / ωₙ² from the modal data inside the exported FMU
@@ -65,7 +66,7 @@ fn modal_sum_from_resources(res: &BridgeResources, x: f64, a: f64, f: f64) -> [f
 
 #[test]
 fn bridge_fmu_settles_to_the_static_deflection_of_its_modal_model() {
-    let e = common::export("static-bridge", &scenarios::moving_force());
+    let e = export("static-bridge", &scenarios::moving_force());
     let fmu = Fmu::load(&e.bridge).unwrap_or_else(|err| panic!("{err}"));
     let res: BridgeResources = serde_json::from_slice(
         &std::fs::read(fmu.unpacked_dir().join("resources/bridge.json")).expect("bridge.json"),
@@ -216,7 +217,7 @@ const G: f64 = 9.81;
 
 #[test]
 fn train_fmu_on_a_rigid_smooth_rail_stays_in_static_equilibrium() {
-    let e = common::export("static-train", &scenarios::coach2());
+    let e = export("static-train", &scenarios::coach2());
     let fmu = Fmu::load(&e.train).unwrap_or_else(|err| panic!("{err}"));
     let mut inst = instantiate(&fmu, "train");
     inst.setup_experiment(None, 0.0, None).expect("setup");

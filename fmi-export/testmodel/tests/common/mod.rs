@@ -16,22 +16,8 @@ pub fn guid() -> String {
 }
 
 /// `libtestmodel.so` as built by cargo for this test run: cargo builds the package's
-/// cdylib before its integration tests, into the directory above `deps/` (where the test
-/// executable lives) and into `deps/` itself.
+/// cdylib before its integration tests, into `deps/` (where the test executable lives) and
+/// the directory above it.
 pub fn library() -> PathBuf {
-    let name = format!(
-        "{}testmodel{}",
-        std::env::consts::DLL_PREFIX,
-        std::env::consts::DLL_SUFFIX
-    );
-    let exe = std::env::current_exe().expect("test executable path");
-    let mut candidates = Vec::new();
-    for dir in exe.ancestors().skip(1).take(2) {
-        candidates.push(dir.join(&name));
-    }
-    candidates
-        .iter()
-        .find(|p| p.is_file())
-        .cloned()
-        .unwrap_or_else(|| panic!("{name} not found; looked at {candidates:?}"))
+    tbi_tests::cdylib("testmodel")
 }

@@ -1,0 +1,110 @@
+//! Exporting scenarios with `tbi export` and unpacking FMUs independently of the importer
+//! under test.
+
+use crate::{paths, run_ok, scratch};
+use model_description::ModelDescription;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The files written by `tbi export`.
+#[derive(Debug, Clone)]
+pub struct Export {
+    /// The scratch folder (holds `scenario.toml` and the `out/` folder).
+    pub dir: PathBuf,
+    pub scenario: PathBuf,
+    pub bridge: PathBuf,
+    pub train: PathBuf,
+    pub ssp: PathBuf,
+}
+
+/// Write `toml` to `<scratch folder labelled name>/scenario.toml` and run `tbi export` on it
+/// (the release `tbi` next to `libbridge.so` and `libtrain.so`).
+pub fn export(name: &str, toml: &str) -> Export {
+    let dir = scratch(name);
+    let scenario = dir.join("scenario.toml");
+    std::fs::write(&scenario, toml).expect("write scenario");
+    let out = dir.join("out");
+    run_ok(
+        Command::new(paths::release_dir().join("tbi"))
+            .arg("export")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(&out),
+    );
+    let e = Export {
+        bridge: out.join("bridge.fmu"),
+        train: out.join("train.fmu"),
+        ssp: out.join("system.ssp"),
+        dir,
+        scenario,
+    };
+    for f in [&e.bridge, &e.train, &e.ssp] {
+        assert!(f.is_file(), "tbi export did not write {}", f.display());
+    }
+    e
+}
+
+/// An FMU unpacked by the test (independently of the importer under test).
+#[derive(Debug)]
+pub struct Unpacked {
+    pub dir: PathBuf,
+    pub md: ModelDescription,
+    /// `binaries/linux64/<modelIdentifier>.so`.
+    pub library: PathBuf,
+    pub resources: PathBuf,
+    pub model_identifier: String,
+}
+
+impl Unpacked {
+    /// Value reference of the variable called `name`.
+    pub fn vr(&self, name: &str) -> u32 {
+        vr_of(&self.md, name)
+    }
+}
+
+/// Value reference of the variable `name` of a model description.
+pub fn vr_of(md: &ModelDescription, name: &str) -> u32 {
+    md.model_variables
+        .iter()
+        .find(|v| v.name == name)
+        .unwrap_or_else(|| panic!("the model description has no variable {name}"))
+        .value_reference
+}
+
+/// Extract `fmu` into `into` with the `zip` crate and read its model description.
+pub fn unpack(fmu: &Path, into: &Path) -> Unpacked {
+    if into.exists() {
+        std::fs::remove_dir_all(into).expect("clear unpack folder");
+    }
+    let file = std::fs::File::open(fmu).unwrap_or_else(|e| panic!("{}: {e}", fmu.display()));
+    let mut zip = zip::ZipArchive::new(file).unwrap_or_else(|e| panic!("{}: {e}", fmu.display()));
+    zip.extract(into)
+        .unwrap_or_else(|e| panic!("unpacking {}: {e}", fmu.display()));
+    let xml = std::fs::read_to_string(into.join("modelDescription.xml"))
+        .unwrap_or_else(|e| panic!("{}: modelDescription.xml: {e}", fmu.display()));
+    let md =
+        ModelDescription::parse(&xml, &fmu.display().to_string()).unwrap_or_else(|e| panic!("{e}"));
+    let model_identifier = md
+        .co_simulation
+        .as_ref()
+        .expect("a Co-Simulation FMU")
+        .model_identifier
+        .clone();
+    let library = into
+        .join("binaries")
+        .join("linux64")
+        .join(format!("{model_identifier}.so"));
+    assert!(
+        library.is_file(),
+        "{} has no {}",
+        fmu.display(),
+        library.display()
+    );
+    Unpacked {
+        dir: into.to_path_buf(),
+        library,
+        resources: into.join("resources"),
+        model_identifier,
+        md,
+    }
+}
