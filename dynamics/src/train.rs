@@ -17,13 +17,16 @@ pub struct Speed(f64);
 
 /// Why a number is not a [`Speed`].
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("must be a positive finite number")]
+#[error("must be a positive finite number, at most 200 m/s (720 km/h)")]
 pub struct SpeedError;
 
 impl Speed {
-    /// A speed of `v` m/s.
+    /// The highest speed accepted, m/s (above any rail vehicle's).
+    pub const MAX_M_S: f64 = 200.0;
+
+    /// A speed of `v` m/s, 0 < v ≤ [`Speed::MAX_M_S`].
     pub fn from_m_s(v: f64) -> Result<Speed, SpeedError> {
-        if v.is_finite() && v > 0.0 {
+        if v > 0.0 && v <= Self::MAX_M_S {
             Ok(Speed(v))
         } else {
             Err(SpeedError)

@@ -29,9 +29,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub struct UnpackLimits {
     /// Maximum number of entries (files and directories). Default 10 000.
     pub max_entries: usize,
-    /// Maximum inflated size of one entry in bytes. Default 2 GiB.
+    /// Maximum inflated size of one entry in bytes. Default 256 MiB.
     pub max_entry_size: u64,
-    /// Maximum inflated size of all entries together in bytes. Default 4 GiB.
+    /// Maximum inflated size of all entries together in bytes. Default 512 MiB (the
+    /// project's largest FMU, the Tsing Ma bridge, unpacks to about 3 MB).
     pub max_total_size: u64,
 }
 
@@ -39,8 +40,8 @@ impl Default for UnpackLimits {
     fn default() -> Self {
         Self {
             max_entries: 10_000,
-            max_entry_size: 2 << 30,
-            max_total_size: 4 << 30,
+            max_entry_size: 256 << 20,
+            max_total_size: 512 << 20,
         }
     }
 }
@@ -87,6 +88,31 @@ impl UnpackedDir {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Remove the directories `{prefix}-{pid}-…` in the temporary directory whose process
+    /// no longer exists (left by a run that was killed). Linux only; elsewhere nothing.
+    pub fn remove_stale(prefix: &str) {
+        if !cfg!(target_os = "linux") {
+            return;
+        }
+        let Ok(entries) = fs::read_dir(std::env::temp_dir()) else {
+            return;
+        };
+        let head = format!("{prefix}-");
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let Some(pid) = name
+                .strip_prefix(&head)
+                .and_then(|rest| rest.split('-').next())
+                .and_then(|p| p.parse::<u32>().ok())
+            else {
+                continue;
+            };
+            if pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists() {
+                let _ = fs::remove_dir_all(entry.path());
+            }
+        }
     }
 }
 
@@ -147,6 +173,14 @@ pub fn unpack(fmu: &Path, limits: &UnpackLimits) -> Result<UnpackedDir, FmiError
         .map_err(|e| archive_error(None, format!("cannot open {}: {e}", fmu.display())))?;
     let mut archive = zip::ZipArchive::new(io::BufReader::new(file))
         .map_err(|e| archive_error(None, format!("not a valid zip archive ({e})")))?;
+    // The zip reader indexes entries by name and keeps one of two equal names; refuse
+    // archives whose central directory repeats a name (which of the two would be used?).
+    if let Some(name) = repeated_name(fmu) {
+        return Err(archive_error(
+            Some(&name),
+            "the archive holds this path twice".into(),
+        ));
+    }
     if archive.len() > limits.max_entries {
         return Err(archive_error(
             None,
@@ -157,6 +191,7 @@ pub fn unpack(fmu: &Path, limits: &UnpackLimits) -> Result<UnpackedDir, FmiError
             ),
         ));
     }
+    UnpackedDir::remove_stale("tbi-fmu");
     let dir = UnpackedDir::create("tbi-fmu")
         .map_err(|e| archive_error(None, format!("cannot create a temporary directory: {e}")))?;
 
@@ -253,6 +288,37 @@ pub fn unpack(fmu: &Path, limits: &UnpackLimits) -> Result<UnpackedDir, FmiError
         total += written;
     }
     Ok(dir)
+}
+
+/// The first name the central directory of the zip file lists twice, read directly from
+/// the file (the end-of-central-directory record and the file headers; archives too large
+/// for the classic format are left to the reader).
+fn repeated_name(path: &Path) -> Option<String> {
+    let bytes = fs::read(path).ok()?;
+    let u16_at = |o: usize| -> Option<usize> {
+        Some(u16::from_le_bytes(bytes.get(o..o + 2)?.try_into().ok()?) as usize)
+    };
+    let u32_at = |o: usize| -> Option<usize> {
+        Some(u32::from_le_bytes(bytes.get(o..o + 4)?.try_into().ok()?) as usize)
+    };
+    let tail = bytes.len().saturating_sub(22 + 65_535);
+    let eocd = (tail..bytes.len().saturating_sub(21))
+        .rev()
+        .find(|&i| bytes[i..i + 4] == [0x50, 0x4b, 0x05, 0x06])?;
+    let (count, mut at) = (u16_at(eocd + 10)?, u32_at(eocd + 16)?);
+    let mut seen = HashSet::new();
+    for _ in 0..count {
+        if bytes.get(at..at + 4)? != [0x50, 0x4b, 0x01, 0x02] {
+            return None;
+        }
+        let (n, extra, comment) = (u16_at(at + 28)?, u16_at(at + 30)?, u16_at(at + 32)?);
+        let name = String::from_utf8_lossy(bytes.get(at + 46..at + 46 + n)?).into_owned();
+        if !seen.insert(name.clone()) {
+            return Some(name);
+        }
+        at += 46 + n + extra + comment;
+    }
+    None
 }
 
 fn copy(from: &mut impl Read, to: &mut impl Write) -> io::Result<u64> {
@@ -365,6 +431,32 @@ mod tests {
         assert!(
             e.contains("entry \"./a.txt\": the archive holds this path twice"),
             "{e}"
+        );
+    }
+
+    #[test]
+    fn refuses_a_name_the_zip_reader_would_keep_once() {
+        // two entries, then the second renamed to the first's name in the local and
+        // central headers (the zip writer itself refuses equal names)
+        let (dir, path) = make_zip(&[
+            ("modelDescription.xml", b"<a/>"),
+            ("modelDescriptioX.xml", b"<b/>"),
+        ]);
+        let mut bytes = fs::read(&path).unwrap();
+        let (from, to) = (b"modelDescriptioX.xml", b"modelDescription.xml");
+        let mut i = 0;
+        while let Some(p) = bytes[i..].windows(from.len()).position(|w| w == from) {
+            bytes[i + p..i + p + from.len()].copy_from_slice(to);
+            i += p + from.len();
+        }
+        let twice = dir.path().join("twice.fmu");
+        fs::write(&twice, bytes).unwrap();
+        let e = unpack(&twice, &UnpackLimits::default())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "twice.fmu: entry \"modelDescription.xml\": the archive holds this path twice"
         );
     }
 

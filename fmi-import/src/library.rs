@@ -48,6 +48,7 @@ impl Library {
     /// Loading runs the library's initialisers and the resolved pointers are trusted to
     /// have the fmi2 signatures: the library must be an FMU binary, as for any importer.
     pub fn load(path: &Path) -> Result<Library, LoadError> {
+        check_binary(path).map_err(LoadError::Open)?;
         let library = open(path).map_err(|e| LoadError::Open(e.to_string()))?;
         // SAFETY: an FMU binary; FMI 2.0 fixes the exported signatures.
         let functions = unsafe { Functions::load(&library) }.map_err(LoadError::MissingSymbols)?;
@@ -72,6 +73,91 @@ impl std::ops::Deref for Library {
     }
 }
 
+/// Check an ELF shared object before `dlopen` sees it: a truncated or foreign file can
+/// crash the loader (SIGBUS on a mapping past the end of the file) instead of failing.
+/// Verified: the ELF magic, 64-bit little-endian, a shared object (`ET_DYN`) for this
+/// machine's architecture, and that the program headers and every loadable segment lie
+/// inside the file. Other platforms' binaries are left to the loader.
+pub fn check_binary(path: &Path) -> Result<(), String> {
+    if !cfg!(all(
+        target_os = "linux",
+        target_endian = "little",
+        target_pointer_width = "64"
+    )) {
+        return Ok(());
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let what = |why: String| format!("{} is not a loadable shared object: {why}", path.display());
+    if bytes.len() < 64 || &bytes[..4] != b"\x7fELF" {
+        let head: Vec<String> = bytes.iter().take(4).map(|b| format!("{b:02x}")).collect();
+        return Err(what(format!(
+            "no ELF header (the file is {} bytes and starts with {})",
+            bytes.len(),
+            if head.is_empty() {
+                "nothing".to_owned()
+            } else {
+                head.join(" ")
+            }
+        )));
+    }
+    let u16_at = |o: usize| u16::from_le_bytes([bytes[o], bytes[o + 1]]);
+    let u64_at = |o: usize| -> u64 {
+        bytes.get(o..o + 8).map_or(u64::MAX, |b| {
+            u64::from_le_bytes(b.try_into().expect("8 bytes"))
+        })
+    };
+    if bytes[4] != 2 || bytes[5] != 1 {
+        return Err(what("not a 64-bit little-endian ELF file".into()));
+    }
+    if u16_at(16) != 3 {
+        return Err(what(format!(
+            "ELF type {} is not a shared object (ET_DYN = 3)",
+            u16_at(16)
+        )));
+    }
+    let machine = u16_at(18);
+    let expected = if cfg!(target_arch = "x86_64") {
+        Some(62)
+    } else if cfg!(target_arch = "aarch64") {
+        Some(183)
+    } else {
+        None
+    };
+    if let Some(m) = expected {
+        if machine != m {
+            return Err(what(format!(
+                "built for ELF machine {machine}, this is machine {m} ({})",
+                std::env::consts::ARCH
+            )));
+        }
+    }
+    let len = bytes.len() as u64;
+    let (phoff, phentsize, phnum) = (u64_at(32), u16_at(54) as u64, u16_at(56) as u64);
+    if phentsize < 56 || phoff.saturating_add(phentsize.saturating_mul(phnum)) > len {
+        return Err(what(format!(
+            "truncated: its program headers end past the file's {len} bytes"
+        )));
+    }
+    for i in 0..phnum {
+        let h = (phoff + i * phentsize) as usize;
+        let kind = u32::from_le_bytes(bytes[h..h + 4].try_into().expect("4 bytes"));
+        let (offset, filesz) = (u64_at(h + 8), u64_at(h + 32));
+        if kind == 1 && offset.saturating_add(filesz) > len {
+            return Err(what(format!(
+                "truncated: loadable segment {i} ends at byte {}, the file has {len}",
+                offset.saturating_add(filesz)
+            )));
+        }
+    }
+    let (shoff, shentsize, shnum) = (u64_at(40), u16_at(58) as u64, u16_at(60) as u64);
+    if shoff.saturating_add(shentsize.saturating_mul(shnum)) > len {
+        return Err(what(format!(
+            "truncated: its section headers end past the file's {len} bytes"
+        )));
+    }
+    Ok(())
+}
+
 fn open(path: &Path) -> Result<libloading::Library, libloading::Error> {
     #[cfg(unix)]
     {
@@ -83,5 +169,43 @@ fn open(path: &Path) -> Result<libloading::Library, libloading::Error> {
     {
         // SAFETY: as above.
         unsafe { libloading::Library::new(path) }
+    }
+}
+
+#[cfg(all(test, target_os = "linux"))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn truncated_and_foreign_files_are_refused_before_dlopen() {
+        let exe = std::env::current_exe().unwrap();
+        let dir = std::env::temp_dir().join(format!("tbi-elf-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // a real shared object of this machine: the C library
+        let libc = [
+            "/lib/x86_64-linux-gnu/libc.so.6",
+            "/lib64/libc.so.6",
+            "/usr/lib/libc.so.6",
+        ]
+        .into_iter()
+        .map(Path::new)
+        .find(|p| p.is_file());
+        if let Some(libc) = libc {
+            check_binary(libc).unwrap();
+            let bytes = std::fs::read(libc).unwrap();
+            let cut = dir.join("cut.so");
+            std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+            let e = check_binary(&cut).unwrap_err();
+            assert!(e.contains("truncated"), "{e}");
+            assert!(
+                matches!(Library::load(&cut), Err(LoadError::Open(m)) if m.contains("truncated"))
+            );
+        }
+        let text = dir.join("text.so");
+        std::fs::write(&text, b"hello, world").unwrap();
+        assert!(check_binary(&text).unwrap_err().contains("no ELF header"));
+        // an executable is not a shared object (unless built as PIE, which is ET_DYN too)
+        let _ = check_binary(&exe);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -71,6 +71,9 @@ pub enum SimulateError {
     },
 }
 
+/// Most communication steps of one run (each keeps a result row in memory).
+pub const MAX_STEPS: f64 = 1e7;
+
 /// Settings of one run; `None` fields take the defaults described in the module docs.
 #[derive(Debug, Clone, Default)]
 pub struct SimulationOptions {
@@ -703,6 +706,12 @@ pub fn simulate(
     if !(step.is_finite() && step > 0.0) {
         return Err(invalid(format!(
             "the step size {step} must be a positive number"
+        )));
+    }
+    let steps = (stop_time - start_time) / step;
+    if steps > MAX_STEPS {
+        return Err(invalid(format!(
+            "the step size {step:e} s would take {steps:.3e} steps from {start_time} to {stop_time} s, more than the limit of {MAX_STEPS:e}"
         )));
     }
     let can_vary = cs.can_handle_variable_communication_step_size;

@@ -68,7 +68,7 @@ atol = 1e-8
 
 fn timed(s: &Scenario, out: &Path) -> Result<(f64, Summary), Box<dyn std::error::Error>> {
     let t = Instant::now();
-    let summary = run_scenario(s, out, false)?;
+    let summary = run_scenario(s, out, false, &crate::model::Limits::default())?;
     Ok((t.elapsed().as_secs_f64(), summary))
 }
 
@@ -111,6 +111,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         speeds: vec![20.0, 40.0, 70.0, 120.0],
         solver: None,
         out: args.out.join("sweep"),
+        allow_large: false,
     })?;
     println!(
         "Tsing Ma four-speed sweep (co-simulation, in parallel): {:.1} s",

@@ -217,6 +217,7 @@ pub fn run_cosim<W: std::io::Write>(
     let h = model.dt;
     for k in 1..=model.steps {
         let t = (k - 1) as f64 * h;
+        crate::interrupt::check(t)?;
         let report = advance(scheme.as_mut(), &mut sys, t, h, cfg.policy(h))
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);

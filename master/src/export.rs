@@ -50,6 +50,18 @@ pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
     let scenario = crate::scenario::load(args.scenario.as_deref(), None, None)?;
     let model = crate::model::build(&scenario)?;
     let e = export(&model, &args.out)?;
+    for fmu in [&e.bridge, &e.train] {
+        if let Err(why) = check_instantiates(fmu) {
+            for f in [&e.bridge, &e.train, &e.ssp] {
+                let _ = std::fs::remove_file(f);
+            }
+            return Err(format!(
+                "{}: the exported FMU does not instantiate, so nothing was exported: {why}",
+                fmu.display()
+            )
+            .into());
+        }
+    }
     println!(
         "{}\n{}\n{}",
         e.bridge.display(),
@@ -57,6 +69,20 @@ pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
         e.ssp.display()
     );
     Ok(())
+}
+
+/// Load an exported FMU and instantiate it once, as an importer would.
+pub fn check_instantiates(fmu: &Path) -> Result<(), String> {
+    let loaded = fmi_import::Fmu::load(fmu).map_err(|e| e.to_string())?;
+    loaded
+        .instantiate(&fmi_import::InstantiateOptions {
+            instance_name: Some("check".into()),
+            visible: false,
+            logging_on: false,
+            echo_log: false,
+        })
+        .map(drop)
+        .map_err(|e| e.to_string())
 }
 
 /// Directory holding `libbridge.so` and `libtrain.so`.
@@ -155,6 +181,12 @@ pub fn export(model: &Model, out: &Path) -> Result<Exported, String> {
 
 /// As [`export`]; `with_ssp = false` skips `system.ssp` (the co-simulation runs do not need it).
 pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported, String> {
+    // JSON has no NaN or infinity (serde would write null): refuse before writing anything.
+    if let Some(what) = model.bridge.first_non_finite() {
+        return Err(format!(
+            "the bridge model has a number that is not finite ({what}); nothing was exported"
+        ));
+    }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let libs = library_dir()?;
     let track_csv = model.track.to_record_csv();

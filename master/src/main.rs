@@ -42,6 +42,7 @@ enum ScenarioCommand {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    tbi::interrupt::install();
     let result = match cli.command {
         Command::Simulate(args) => tbi::simulate::main(args),
         Command::Run(args) => tbi::run::main(args),
@@ -60,7 +61,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("tbi: error: {e:#}");
-            ExitCode::FAILURE
+            if tbi::interrupt::interrupted() {
+                ExitCode::from(130)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

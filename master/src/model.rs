@@ -34,6 +34,115 @@ impl Model {
     pub fn t_end(&self) -> f64 {
         self.steps as f64 * self.dt
     }
+
+    /// What a run of this model will cost, estimated before any step is taken.
+    pub fn estimate(&self) -> Estimate {
+        let steps = self.steps as f64;
+        let nw = self.train.n_wheelsets() as f64;
+        let nv = self.train.vehicles.len() as f64;
+        let nb = self.bridge.n_modes() as f64;
+        let columns = 1.0 + 4.0 * self.probes.len() as f64 + 2.0 * nv + 5.0 * nw;
+        let rows = steps / self.output_every as f64 + 1.0;
+        Estimate {
+            steps,
+            // about 24 characters per full-precision value and its separator
+            history_bytes: rows * columns * 24.0,
+            // car-body acceleration histories (Sperling indices) and the per-step
+            // mode-shape and interface arrays
+            memory_bytes: 16.0 * nv * steps + 8.0 * 24.0 * nw * nb + 4096.0 * (nw + nb),
+        }
+    }
+}
+
+/// The cost of a run, estimated from the model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub steps: f64,
+    /// Size of `history.csv`, bytes.
+    pub history_bytes: f64,
+    /// Memory that grows with the run, bytes.
+    pub memory_bytes: f64,
+}
+
+/// What a run may cost before it is refused (override: `--allow-large`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Time steps. Default 10 million.
+    pub max_steps: f64,
+    /// `history.csv` size, bytes. Default 2 GiB.
+    pub max_history_bytes: f64,
+    /// Memory growing with the run, bytes. Default 4 GiB.
+    pub max_memory_bytes: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_steps: 1e7,
+            max_history_bytes: 2.0 * (1u64 << 30) as f64,
+            max_memory_bytes: 4.0 * (1u64 << 30) as f64,
+        }
+    }
+}
+
+impl Limits {
+    /// No limits (`--allow-large`).
+    pub fn none() -> Limits {
+        Limits {
+            max_steps: f64::INFINITY,
+            max_history_bytes: f64::INFINITY,
+            max_memory_bytes: f64::INFINITY,
+        }
+    }
+
+    /// Refuse a run whose estimate passes a limit, naming the scenario fields behind it.
+    pub fn check(&self, s: &Scenario, e: &Estimate) -> Result<(), InputError> {
+        let mib = |b: f64| format!("{:.0} MiB", b / (1u64 << 20) as f64);
+        let refuse = |what: String| {
+            InputError::field(
+                &s.origin,
+                "run",
+                format!(
+                    "speed_kmh = {}, dt_s = {}, output_every = {}",
+                    num(s.run.speed_kmh),
+                    num(s.run.dt_s),
+                    s.run.output_every
+                ),
+                format!("{what}; give --allow-large to run it anyway"),
+            )
+        };
+        if e.steps > self.max_steps {
+            return Err(refuse(format!(
+                "the run would take {:.3e} time steps, more than the limit of {:.0e}",
+                e.steps, self.max_steps
+            )));
+        }
+        if e.history_bytes > self.max_history_bytes {
+            return Err(refuse(format!(
+                "history.csv would grow to about {}, more than the limit of {} (raise run.output_every)",
+                mib(e.history_bytes),
+                mib(self.max_history_bytes)
+            )));
+        }
+        if e.memory_bytes > self.max_memory_bytes {
+            return Err(refuse(format!(
+                "the run would need about {} of memory, more than the limit of {}",
+                mib(e.memory_bytes),
+                mib(self.max_memory_bytes)
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A number for messages: plain for ordinary magnitudes, in scientific notation otherwise
+/// (so 1e-300 is not printed with 300 digits).
+pub fn num(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// The nodal modes of a bridge given by nodal modes (`None` for analytic kinds).
@@ -93,6 +202,24 @@ pub fn build_bridge(s: &Scenario) -> Result<ModalBridge, InputError> {
 /// Build everything.
 pub fn build(s: &Scenario) -> Result<Model, InputError> {
     let bridge = build_bridge(s)?;
+    if let Some((n, f)) = bridge
+        .frequencies_hz
+        .iter()
+        .enumerate()
+        .find(|(_, f)| !(f.is_finite() && **f > 0.0))
+    {
+        return Err(InputError::field(
+            &s.origin,
+            "bridge",
+            s.bridge.kind(),
+            format!(
+                "mode {} ({}) has the frequency {} Hz; the section data or modes file are not physical",
+                n + 1,
+                bridge.labels[n],
+                num(*f)
+            ),
+        ));
+    }
     for (i, p) in s.probes.iter().enumerate() {
         if !bridge.on_deck(p.x_m) {
             return Err(InputError::field(
@@ -112,12 +239,24 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
         x0_m: s.run.start_x_m.unwrap_or(bridge.x_start_m),
         hunting: s.train.hunting.clone(),
     };
+    if train_res.x0_m >= bridge.x_end_m {
+        return Err(InputError::field(
+            &s.origin,
+            "run.start_x_m",
+            num(train_res.x0_m),
+            format!(
+                "the first axle would start beyond the deck end at {} m, so the train never crosses the bridge",
+                num(bridge.x_end_m)
+            ),
+        ));
+    }
     let train = train_res
         .build(0.0)
         .map_err(|e| InputError::field(&s.origin, "train", s.train.kind(), &e))?;
     let (speed, x0) = (s.run.speed.m_s(), train_res.x0_m);
     let length = train.length_m();
     let t_end = (bridge.x_end_m - x0 + length).max(0.0) / speed + s.run.free_vibration_s;
+    // (saturates at usize::MAX for absurd inputs; Limits::check refuses those)
     let steps = (t_end / s.run.dt_s - 1e-9).ceil().max(1.0) as usize;
     let x_lo = x0 - length - 1.0;
     let x_hi = x0 + speed * steps as f64 * s.run.dt_s + 1.0;

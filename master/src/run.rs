@@ -1,7 +1,8 @@
 //! `tbi run`: simulate a scenario with the monolithic solver or by co-simulation of the two
 //! FMUs, and write `summary.json`, `history.csv` and plots into the output folder.
 
-use crate::model::{build, Model};
+use crate::model::{build, Limits, Model};
+use crate::outdir::OutputDir;
 use crate::scenario::{Scenario, SolverKind};
 use crate::summary::Summary;
 use std::fs::File;
@@ -29,6 +30,9 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Run even when the estimated steps, history.csv size or memory pass the limits.
+    #[arg(long)]
+    pub allow_large: bool,
 }
 
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -41,7 +45,12 @@ pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("tbi-out").join(&scenario.name));
-    let summary = run_scenario(&scenario, &out, !args.quiet)?;
+    let limits = if args.allow_large {
+        Limits::none()
+    } else {
+        Limits::default()
+    };
+    let summary = run_scenario(&scenario, &out, !args.quiet, &limits)?;
     println!("{}", serde_json::to_string_pretty(&summary)?);
     eprintln!("tbi: results in {}", out.display());
     Ok(())
@@ -75,15 +84,18 @@ pub fn layout(model: &Model) -> Layout {
 }
 
 /// Run a scenario into `out` (co-simulation keeps its FMUs in `out/fmus`); returns the
-/// summary (also written as `summary.json`).
+/// summary (also written as `summary.json`). The folder is claimed for the run
+/// ([`OutputDir`]) and the run's cost checked against `limits` before any step.
 pub fn run_scenario(
     scenario: &Scenario,
     out: &Path,
     show_progress: bool,
+    limits: &Limits,
 ) -> Result<Summary, Box<dyn std::error::Error>> {
-    std::fs::create_dir_all(out)
-        .map_err(|e| format!("{}: cannot create output folder: {e}", out.display()))?;
     let model = build(scenario)?;
+    limits.check(scenario, &model.estimate())?;
+    let claim = OutputDir::claim(out)?;
+    let out = claim.path();
     let history = out.join("history.csv");
     let file = File::create(&history).map_err(|e| format!("{}: {e}", history.display()))?;
     let mut rec = Recorder::new(
@@ -106,12 +118,17 @@ pub fn run_scenario(
     let wall = start.elapsed().as_secs_f64();
     rec.finish()?;
     let mut summary = Summary::new(scenario, &model, &rec, wall);
+    // The plots come before the summary, so that `"status": "ok"` is only ever written for
+    // a run that succeeded as a whole.
+    let result = result.and_then(|coupling| {
+        crate::plots::write_run_plots(out, &model, &history)
+            .map_err(|e| format!("plots in {}: {e}", out.display()))?;
+        Ok(coupling)
+    });
     match result {
         Ok(coupling) => {
             summary.coupling = coupling;
             summary.write(out)?;
-            crate::plots::write_run_plots(out, &model, &history)
-                .map_err(|e| format!("plots in {}: {e}", out.display()))?;
             Ok(summary)
         }
         Err(e) => {
@@ -144,6 +161,7 @@ pub fn run_monolithic<W: std::io::Write>(
     rec.record(&sol.sample(&shapes), true)?;
     let pb = crate::progress::bar(model.steps, show_progress);
     for k in 1..=model.steps {
+        crate::interrupt::check(sol.t)?;
         sol.step();
         if !sol.q.iter().all(|v| v.is_finite()) {
             return Err(format!(

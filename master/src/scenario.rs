@@ -47,6 +47,7 @@
 //! → [`Train::x_at`](tbi_dynamics::train::Train::x_at).
 
 use crate::coupling::CouplingConfig;
+use crate::model::num;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use tbi_dynamics::bridge::SimplySupported;
@@ -59,6 +60,36 @@ use tbi_track::{HuntingParams, IrregularitySpec};
 
 /// The embedded default scenario: the paper's Tsing Ma case.
 pub const DEFAULT_SCENARIO: &str = include_str!("../scenarios/tsing-ma.toml");
+
+/// Limits on scenario values (documented in README.md, "Limits"). Values outside them are
+/// not physically meaningful for a railway bridge or would exhaust the machine.
+pub mod limits {
+    /// Time step range, s.
+    pub const DT_S: (f64, f64) = (1e-6, 0.1);
+    /// Longest free vibration after the train has left, s.
+    pub const FREE_VIBRATION_S: f64 = 3600.0;
+    /// Most bridge modes.
+    pub const MODES: usize = 2000;
+    /// Most coaches.
+    pub const VEHICLES: usize = 1000;
+    /// Most axles of a moving-force or sprung-mass train.
+    pub const AXLES: usize = 4000;
+    /// Most probes.
+    pub const PROBES: usize = 1000;
+    /// Longest scenario name, characters.
+    pub const NAME_CHARS: usize = 100;
+    /// Simply supported section data: (field, lowest, highest), SI units.
+    pub const SECTION: [(&str, f64, f64); 8] = [
+        ("span_m", 0.5, 1e5),
+        ("youngs_modulus_pa", 1e6, 1e13),
+        ("inertia_vertical_m4", 1e-8, 1e5),
+        ("inertia_lateral_m4", 1e-8, 1e5),
+        ("shear_modulus_pa", 1e5, 1e13),
+        ("torsion_constant_m4", 1e-10, 1e5),
+        ("polar_inertia_kg_m", 1e-3, 1e10),
+        ("mass_per_length_kg_m", 1.0, 1e7),
+    ];
+}
 
 /// A checked scenario.
 #[derive(Debug, Clone)]
@@ -254,7 +285,7 @@ pub fn load(
 impl Scenario {
     /// Read and check a scenario file.
     pub fn from_path(path: &Path) -> Result<Scenario, InputError> {
-        let text = std::fs::read_to_string(path)
+        let text = tbi_modes::input::read_text(path, tbi_modes::input::MAX_SCENARIO_BYTES)
             .map_err(|e| InputError::file(path, format!("cannot read scenario: {e}")))?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::from_toml(&text, &path.display().to_string(), &base)
@@ -280,6 +311,7 @@ impl Scenario {
             InputError::line(origin, line, e.message().to_string())
         })?;
         let c = Check { origin };
+        c.name(&file.name)?;
         let run = c.run(&file.run)?;
         let bridge = c.bridge(&file.bridge, base_dir)?;
         let train = c.train(&file.train)?;
@@ -303,7 +335,7 @@ impl Scenario {
     /// Change the speed (km/h), checked as in the file.
     pub fn set_speed_kmh(&mut self, v: f64) -> Result<(), InputError> {
         self.run.speed = Speed::from_m_s(v / 3.6)
-            .map_err(|e| InputError::field(&self.origin, "run.speed_kmh", v, e.to_string()))?;
+            .map_err(|e| InputError::field(&self.origin, "run.speed_kmh", num(v), e.to_string()))?;
         self.run.speed_kmh = v;
         Ok(())
     }
@@ -428,38 +460,89 @@ impl Check<'_> {
 
     fn positive(&self, field: &str, v: f64) -> Result<f64, InputError> {
         if !(v.is_finite() && v > 0.0) {
-            return Err(self.err(field, v, "must be a positive finite number"));
+            return Err(self.err(field, num(v), "must be a positive finite number"));
         }
         Ok(v)
     }
 
     fn non_negative(&self, field: &str, v: f64) -> Result<f64, InputError> {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(self.err(field, v, "must be a finite number ≥ 0"));
+            return Err(self.err(field, num(v), "must be a finite number ≥ 0"));
         }
         Ok(v)
     }
 
     fn finite(&self, field: &str, v: f64) -> Result<f64, InputError> {
         if !v.is_finite() {
-            return Err(self.err(field, v, "must be finite"));
+            return Err(self.err(field, num(v), "must be finite"));
         }
         Ok(v)
     }
 
     fn ratio(&self, field: &str, v: f64) -> Result<f64, InputError> {
         if !(0.0..1.0).contains(&v) {
-            return Err(self.err(field, v, "must lie in [0, 1)"));
+            return Err(self.err(field, num(v), "must lie in [0, 1)"));
         }
         Ok(v)
+    }
+
+    fn within(
+        &self,
+        field: &str,
+        v: f64,
+        (lo, hi): (f64, f64),
+        unit: &str,
+    ) -> Result<f64, InputError> {
+        if !(lo..=hi).contains(&v) {
+            return Err(self.err(
+                field,
+                num(v),
+                &format!("must lie in [{}, {}] {unit}", num(lo), num(hi)),
+            ));
+        }
+        Ok(v)
+    }
+
+    fn at_most(&self, field: &str, n: usize, max: usize) -> Result<usize, InputError> {
+        if n > max {
+            return Err(self.err(field, n, &format!("must be at most {max}")));
+        }
+        Ok(n)
+    }
+
+    /// The name becomes the default output folder `tbi-out/<name>`: one plain path
+    /// component of letters, digits, `-`, `_` and `.`, not starting with a dot.
+    fn name(&self, name: &str) -> Result<(), InputError> {
+        let plain = !name.is_empty()
+            && !name.starts_with('.')
+            && name.chars().count() <= limits::NAME_CHARS
+            && name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+        if !plain {
+            return Err(self.err(
+                "name",
+                format!("{name:?}"),
+                &format!(
+                    "must be 1 to {} letters, digits, '-', '_' or '.', not starting with '.' (it names the output folder; choose another folder with --out)",
+                    limits::NAME_CHARS
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn run(&self, r: &FileRun) -> Result<Run, InputError> {
         // km/h as written for reports, m/s checked for the physics.
         let speed = Speed::from_m_s(r.speed_kmh / 3.6)
-            .map_err(|e| self.err("run.speed_kmh", r.speed_kmh, &e.to_string()))?;
-        let dt_s = self.positive("run.dt_s", r.dt_s)?;
-        let free_vibration_s = self.non_negative("run.free_vibration_s", r.free_vibration_s)?;
+            .map_err(|e| self.err("run.speed_kmh", num(r.speed_kmh), &e.to_string()))?;
+        let dt_s = self.within("run.dt_s", r.dt_s, limits::DT_S, "s")?;
+        let free_vibration_s = self.within(
+            "run.free_vibration_s",
+            r.free_vibration_s,
+            (0.0, limits::FREE_VIBRATION_S),
+            "s",
+        )?;
         if let Some(x) = r.start_x_m {
             self.finite("run.start_x_m", x)?;
         }
@@ -481,6 +564,7 @@ impl Check<'_> {
         if b.modes == 0 {
             return Err(self.err("bridge.modes", 0, "must be at least 1"));
         }
+        self.at_most("bridge.modes", b.modes, limits::MODES)?;
         let damping_ratio = self.ratio("bridge.damping_ratio", b.damping_ratio)?;
         let damping_ratio_torsional = match b.damping_ratio_torsional {
             Some(z) => self.ratio("bridge.damping_ratio_torsional", z)?,
@@ -551,9 +635,9 @@ impl Check<'_> {
                 let inertia_vertical_m4 = required("inertia_vertical_m4", b.inertia_vertical_m4)?;
                 let mass_per_length_kg_m =
                     required("mass_per_length_kg_m", b.mass_per_length_kg_m)?;
-                for (name, v) in &section[3..7] {
-                    if let Some(v) = v {
-                        self.positive(&format!("bridge.{name}"), *v)?;
+                for (name, lo, hi) in limits::SECTION {
+                    if let Some((_, Some(v))) = section.iter().find(|f| f.0 == name) {
+                        self.within(&format!("bridge.{name}"), *v, (lo, hi), "(SI units)")?;
                     }
                 }
                 let tors = [
@@ -674,6 +758,7 @@ impl Check<'_> {
                 &format!("kind \"{}\" needs at least one axle", t.kind),
             ));
         }
+        self.at_most("train.axles (count)", t.axles.len(), limits::AXLES)?;
         t.axles
             .iter()
             .enumerate()
@@ -749,6 +834,7 @@ impl Check<'_> {
                 if count == 0 {
                     return Err(self.err("train.vehicles", 0, "must be at least 1"));
                 }
+                self.at_most("train.vehicles", count, limits::VEHICLES)?;
                 Ok(TrainSpec::Coaches { params, count })
             }
             other => Err(self.err(
@@ -760,13 +846,23 @@ impl Check<'_> {
     }
 
     fn probes(&self, probes: &[Probe]) -> Result<(), InputError> {
+        self.at_most("probe (count)", probes.len(), limits::PROBES)?;
         let mut names = std::collections::HashSet::new();
         for (i, p) in probes.iter().enumerate() {
-            if p.name.is_empty() || p.name.contains(',') || p.name.contains('"') {
+            // Probe names become CSV column names and plot titles.
+            let plain = !p.name.is_empty()
+                && p.name.chars().count() <= limits::NAME_CHARS
+                && p.name
+                    .chars()
+                    .all(|c| !c.is_control() && c != ',' && c != '"');
+            if !plain {
                 return Err(self.err(
                     &format!("probe[{i}].name"),
                     format!("{:?}", p.name),
-                    "must be non-empty without commas or quotes",
+                    &format!(
+                        "must be 1 to {} characters without commas, quotes or control characters",
+                        limits::NAME_CHARS
+                    ),
                 ));
             }
             if !names.insert(p.name.clone()) {

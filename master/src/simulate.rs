@@ -20,11 +20,11 @@ pub struct SimulateArgs {
     /// Communication step size in s, `fmpy simulate --output-interval` (default:
     /// DefaultExperiment stepSize, doubled to at most 1000 steps, else about
     /// (stop − start)/500 rounded to a "nice" number as FMPy does).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub step_size: Option<f64>,
     /// Relative tolerance passed to fmi2SetupExperiment (default: DefaultExperiment
     /// tolerance, else undefined).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub relative_tolerance: Option<f64>,
     /// CSV file with input signals: first column time, then columns named like variables.
     #[arg(long, value_name = "CSV")]

@@ -117,10 +117,9 @@ impl Summary {
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
-    /// Write `summary.json` into `out`.
+    /// Write `summary.json` into `out` (through a temporary file and a rename).
     pub fn write(&self, out: &Path) -> Result<(), String> {
-        let p = out.join("summary.json");
         let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))
+        crate::outdir::write_atomically(&out.join("summary.json"), text.as_bytes())
     }
 }

@@ -22,6 +22,9 @@ pub struct SweepArgs {
     /// Output folder: table.md, table.csv and one run folder per speed.
     #[arg(long, default_value = "tbi-out/sweep")]
     pub out: PathBuf,
+    /// Run even when a case's estimated cost passes the limits (see `tbi run`).
+    #[arg(long)]
+    pub allow_large: bool,
 }
 
 /// One row of Table 2: name, unit, scale from SI, extractor, paper values at 20/40/70/120 km/h.
@@ -98,19 +101,27 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     let base = crate::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)?;
     let mut cases = Vec::with_capacity(args.speeds.len());
-    for &v in &args.speeds {
+    for (i, &v) in args.speeds.iter().enumerate() {
+        if args.speeds[..i].contains(&v) {
+            return Err(format!("--speeds: {} km/h is given twice", crate::model::num(v)).into());
+        }
         let mut s = base.clone();
         s.set_speed_kmh(v).map_err(|e| format!("--speeds: {e}"))?;
         cases.push((v, s));
     }
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let limits = if args.allow_large {
+        crate::model::Limits::none()
+    } else {
+        crate::model::Limits::default()
+    };
     // The bridge model is shared: build it once before the parallel runs.
     crate::model::build_bridge(&base)?;
     let results: Vec<Result<Summary, String>> = cases
         .par_iter()
         .map(|(v, s)| {
             let dir = args.out.join(format!("v{v}"));
-            run_scenario(s, &dir, false).map_err(|e| format!("{v} km/h: {e}"))
+            run_scenario(s, &dir, false, &limits).map_err(|e| format!("{v} km/h: {e}"))
         })
         .collect();
     let mut summaries = Vec::new();

@@ -27,6 +27,7 @@
 //! "torsion": [...]}]}`.
 
 pub mod error;
+pub mod input;
 
 pub use error::InputError;
 use serde::{Deserialize, Serialize};
@@ -139,7 +140,7 @@ impl ModeSet {
 
     /// Read a `.csv` or `.json` mode file (by extension).
     pub fn read(path: &Path) -> Result<Self, InputError> {
-        let text = std::fs::read_to_string(path)
+        let text = input::read_text(path, input::MAX_DATA_FILE_BYTES)
             .map_err(|e| InputError::file(path, format!("cannot read modes file: {e}")))?;
         let set = match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("json") => serde_json::from_str::<ModeSet>(&text)

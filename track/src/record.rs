@@ -41,7 +41,6 @@
 //! wraps around (its first and last rows are the same point). With only two rows the slope is
 //! the secant.
 
-use std::fs;
 use std::path::Path;
 
 use crate::profile::Profile;
@@ -77,10 +76,11 @@ impl Record {
     pub fn read(path: impl AsRef<Path>) -> Result<Record, TrackError> {
         let path = path.as_ref();
         let name = path.display().to_string();
-        let text = fs::read_to_string(path).map_err(|source| TrackError::Io {
-            file: name.clone(),
-            source,
-        })?;
+        let text = tbi_modes::input::read_text(path, tbi_modes::input::MAX_DATA_FILE_BYTES)
+            .map_err(|source| TrackError::Io {
+                file: name.clone(),
+                source,
+            })?;
         Record::parse(&text, &name)
     }
 

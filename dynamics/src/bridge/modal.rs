@@ -61,6 +61,43 @@ pub struct ModalBridge {
 }
 
 impl ModalBridge {
+    /// The first number of the model that is not finite (NaN or ±∞), named; `None` when
+    /// every number is finite. Such a model cannot be integrated or written to JSON.
+    pub fn first_non_finite(&self) -> Option<String> {
+        let scalars = [
+            ("x_start_m", self.x_start_m),
+            ("x_end_m", self.x_end_m),
+            ("e_m", self.e_m),
+            ("h4_m", self.h4_m),
+        ];
+        if let Some((name, v)) = scalars.iter().find(|(_, v)| !v.is_finite()) {
+            return Some(format!("{name} = {v}"));
+        }
+        for (n, (f, z)) in self.frequencies_hz.iter().zip(&self.damping).enumerate() {
+            if !(f.is_finite() && z.is_finite()) {
+                return Some(format!("mode {}: frequency {f} Hz, damping {z}", n + 1));
+            }
+        }
+        let bad = |v: &[[f64; 3]]| v.iter().position(|c| !c.iter().all(|x| x.is_finite()));
+        match &self.shapes {
+            Shapes::Sine {
+                span_m, amplitudes, ..
+            } => {
+                if !span_m.is_finite() {
+                    return Some(format!("span {span_m} m"));
+                }
+                bad(amplitudes)
+                    .map(|n| format!("mode {}: shape amplitude {:?}", n + 1, amplitudes[n]))
+            }
+            Shapes::Nodal { x_m, values, .. } => {
+                if let Some(j) = x_m.iter().position(|x| !x.is_finite()) {
+                    return Some(format!("node {}: x = {}", j + 1, x_m[j]));
+                }
+                bad(values).map(|i| format!("shape value {} = {:?}", i + 1, values[i]))
+            }
+        }
+    }
+
     pub fn n_modes(&self) -> usize {
         self.frequencies_hz.len()
     }

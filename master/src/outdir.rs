@@ -1,0 +1,104 @@
+//! An output folder owned by one run at a time.
+//!
+//! `tbi run` (and each case of `tbi sweep`) claims its folder by creating the lock file
+//! `.tbi-lock` (with the process id) before it writes anything there, and removes it when
+//! done. A second run on the same folder is refused with a message naming the folder and
+//! the process holding it; a lock left by a process that no longer exists is taken over.
+//! Final files (`summary.json`) are written under a temporary name and renamed, so a reader
+//! never sees half of one.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Name of the lock file inside an output folder.
+pub const LOCK_FILE: &str = ".tbi-lock";
+
+/// A claimed output folder; the claim ends when this value drops.
+#[derive(Debug)]
+pub struct OutputDir {
+    path: PathBuf,
+    lock: PathBuf,
+}
+
+impl OutputDir {
+    /// Create `path` if needed and claim it.
+    pub fn claim(path: &Path) -> Result<OutputDir, String> {
+        std::fs::create_dir_all(path)
+            .map_err(|e| format!("{}: cannot create output folder: {e}", path.display()))?;
+        let lock = path.join(LOCK_FILE);
+        for _ in 0..2 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&lock)
+            {
+                Ok(mut f) => {
+                    let _ = writeln!(f, "{}", std::process::id());
+                    return Ok(OutputDir {
+                        path: path.to_path_buf(),
+                        lock,
+                    });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let holder = std::fs::read_to_string(&lock)
+                        .ok()
+                        .and_then(|s| s.trim().parse::<u32>().ok());
+                    match holder {
+                        Some(pid) if process_alive(pid) => {
+                            return Err(format!(
+                                "{}: output folder is in use by another tbi run (process {pid}; lock file {}); choose another folder with --out or wait for it to finish",
+                                path.display(),
+                                lock.display()
+                            ))
+                        }
+                        // stale: the process is gone (or the file is not ours); take over
+                        _ => {
+                            let _ = std::fs::remove_file(&lock);
+                        }
+                    }
+                }
+                Err(e) => return Err(format!("{}: {e}", lock.display())),
+            }
+        }
+        Err(format!(
+            "{}: cannot take the lock file {}",
+            path.display(),
+            lock.display()
+        ))
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for OutputDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.lock);
+    }
+}
+
+/// Whether a process with this id exists (on Linux; elsewhere every holder counts as alive).
+pub fn process_alive(pid: u32) -> bool {
+    if cfg!(target_os = "linux") {
+        Path::new("/proc").join(pid.to_string()).exists()
+    } else {
+        true
+    }
+}
+
+/// Write `bytes` to `path` through a temporary file in the same folder and a rename.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    let result = std::fs::write(&tmp, bytes)
+        .and_then(|_| std::fs::rename(&tmp, path))
+        .map_err(|e| format!("{}: {e}", path.display()));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}

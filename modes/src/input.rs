@@ -1,0 +1,60 @@
+//! Reading input files with a size cap, so that a wrong path (`/dev/zero`, a video, a
+//! multi-gigabyte log) is refused instead of being read until memory runs out.
+
+use std::io::{self, Read};
+use std::path::Path;
+
+/// Cap on a scenario file, bytes (16 MiB).
+pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
+/// Cap on a data file (modes file, track record), bytes (512 MiB).
+pub const MAX_DATA_FILE_BYTES: u64 = 512 << 20;
+
+/// The file's text, at most `limit` bytes of UTF-8. Errors say which limit was passed or
+/// at which byte the text stops being UTF-8.
+pub fn read_text(path: &Path, limit: u64) -> io::Result<String> {
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(io::Error::other(format!(
+            "larger than the limit of {limit} bytes ({} MiB)",
+            limit >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("not valid UTF-8 at byte {}", e.utf8_error().valid_up_to()),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn caps_size_and_names_the_first_bad_byte() {
+        let dir = std::env::temp_dir().join(format!("tbi-input-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.txt");
+        std::fs::write(&p, b"hello").unwrap();
+        assert_eq!(read_text(&p, 5).unwrap(), "hello");
+        assert!(read_text(&p, 4)
+            .unwrap_err()
+            .to_string()
+            .contains("limit of 4 bytes"));
+        std::fs::write(&p, b"ab\xffcd").unwrap();
+        assert!(read_text(&p, 100)
+            .unwrap_err()
+            .to_string()
+            .contains("at byte 2"));
+        #[cfg(unix)]
+        assert!(read_text(Path::new("/dev/zero"), 1 << 20)
+            .unwrap_err()
+            .to_string()
+            .contains("limit"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
