@@ -304,8 +304,9 @@ fn a_signal_ends_the_run_with_a_failed_summary_and_no_leftovers() {
             assert!(t0.elapsed().as_secs() < 120, "the run did not start");
             std::thread::sleep(std::time::Duration::from_millis(20));
         }
-        let kill = Command::new("kill")
-            .args(["-TERM", &child.id().to_string()])
+        // the shell's own `kill`, so no other program is needed
+        let kill = Command::new("sh")
+            .args(["-c", &format!("kill -TERM {}", child.id())])
             .status()
             .unwrap();
         assert!(kill.success());
