@@ -71,7 +71,7 @@ pub enum SimulateError {
     },
 }
 
-/// Most communication steps of one run (each keeps a result row in memory).
+/// Most communication steps of one run.
 pub const MAX_STEPS: f64 = 1e7;
 
 /// Settings of one run; `None` fields take the defaults described in the module docs.
@@ -87,6 +87,9 @@ pub struct SimulationOptions {
     pub input: Option<InputTable>,
     /// Print the FMU's log messages to standard error.
     pub echo_log: bool,
+    /// Asked before every step; `true` ends the run (`RunEnd::Stopped`) with the rows so
+    /// far (e.g. after SIGINT).
+    pub stop_requested: Option<fn() -> bool>,
 }
 
 /// One recorded value.
@@ -106,6 +109,8 @@ pub enum RunEnd {
     Terminated { time: f64 },
     /// The FMU discarded a step at `time` without requesting termination.
     Discarded { time: f64 },
+    /// `stop_requested` said so at `time`.
+    Stopped { time: f64 },
 }
 
 /// The recorded trajectories.
@@ -121,24 +126,30 @@ pub struct SimulationResult {
 impl SimulationResult {
     /// Write the result as FMPy's `write_csv` does.
     pub fn write_csv(&self, out: &mut impl Write) -> io::Result<()> {
-        let header: Vec<String> = self.columns.iter().map(|c| format!("\"{c}\"")).collect();
-        writeln!(out, "{}", header.join(","))?;
-        let mut line = String::new();
+        write_header(out, &self.columns)?;
         for (time, values) in &self.rows {
-            line.clear();
-            line.push_str(&python_float_repr(*time));
-            for v in values {
-                line.push(',');
-                match v {
-                    Value::Real(x) => line.push_str(&python_float_repr(*x)),
-                    Value::Integer(i) => line.push_str(&i.to_string()),
-                    Value::Boolean(b) => line.push_str(if *b { "True" } else { "False" }),
-                }
-            }
-            writeln!(out, "{line}")?;
+            write_row(out, *time, values)?;
         }
         Ok(())
     }
+}
+
+fn write_header(out: &mut (impl Write + ?Sized), columns: &[String]) -> io::Result<()> {
+    let header: Vec<String> = columns.iter().map(|c| format!("\"{c}\"")).collect();
+    writeln!(out, "{}", header.join(","))
+}
+
+fn write_row(out: &mut (impl Write + ?Sized), time: f64, values: &[Value]) -> io::Result<()> {
+    let mut line = python_float_repr(time);
+    for v in values {
+        line.push(',');
+        match v {
+            Value::Real(x) => line.push_str(&python_float_repr(*x)),
+            Value::Integer(i) => line.push_str(&i.to_string()),
+            Value::Boolean(b) => line.push_str(if *b { "True" } else { "False" }),
+        }
+    }
+    writeln!(out, "{line}")
 }
 
 /// Python's `repr(float)` (which numpy's `str(float64)` matches): the shortest digits
@@ -600,16 +611,18 @@ fn default_recorded(md: &ModelDescription) -> Vec<&ScalarVariable> {
 }
 
 /// What is read at each sample: value references per type, in column order.
-struct Recorder {
+struct Recorder<'a> {
     columns: Vec<String>,
     reals: Vec<u32>,
     integers: Vec<u32>,
     booleans: Vec<u32>,
     rows: Vec<(f64, Vec<Value>)>,
+    /// Where rows go as they are sampled (then none are kept).
+    sink: Option<&'a mut dyn Write>,
 }
 
-impl Recorder {
-    fn new(md: &ModelDescription) -> Self {
+impl<'a> Recorder<'a> {
+    fn new(md: &ModelDescription, sink: Option<&'a mut dyn Write>) -> Self {
         let wanted: Vec<&str> = default_recorded(md)
             .iter()
             .map(|v| v.name.as_str())
@@ -638,6 +651,7 @@ impl Recorder {
             integers: vrs(&groups[1]),
             booleans: vrs(&groups[2]),
             rows: Vec::new(),
+            sink,
         }
     }
 
@@ -658,15 +672,39 @@ impl Recorder {
             instance.get_boolean(&self.booleans, &mut values)?;
             row.extend(values.into_iter().map(Value::Boolean));
         }
-        self.rows.push((time, row));
+        match self.sink.as_mut() {
+            Some(out) => write_row(out, time, &row).map_err(|e| FmiError::Unsupported {
+                fmu: String::new(),
+                message: format!("cannot write the result row at t = {time}: {e}"),
+            })?,
+            None => self.rows.push((time, row)),
+        }
         Ok(())
     }
 }
 
-/// Run `fmu` once as described in the module documentation.
+/// Run `fmu` once as described in the module documentation, keeping the rows in memory.
 pub fn simulate(
     fmu: &Arc<Fmu>,
     options: &SimulationOptions,
+) -> Result<SimulationResult, SimulateError> {
+    run(fmu, options, None)
+}
+
+/// Run `fmu` once, writing the CSV (header, then each row as it is sampled) to `out`, so
+/// that an interrupted or failed run keeps what was computed. The result holds no rows.
+pub fn simulate_into(
+    fmu: &Arc<Fmu>,
+    options: &SimulationOptions,
+    out: &mut dyn Write,
+) -> Result<SimulationResult, SimulateError> {
+    run(fmu, options, Some(out))
+}
+
+fn run(
+    fmu: &Arc<Fmu>,
+    options: &SimulationOptions,
+    out: Option<&mut dyn Write>,
 ) -> Result<SimulationResult, SimulateError> {
     let md = fmu.model_description();
     let cs = md
@@ -751,13 +789,23 @@ pub fn simulate(
     inputs.apply(&mut instance, time, false)?;
     instance.exit_initialization_mode()?;
 
-    let mut recorder = Recorder::new(md);
+    let mut recorder = Recorder::new(md, out);
+    if let Some(sink) = recorder.sink.as_mut() {
+        write_header(sink, &recorder.columns).map_err(|error| SimulateError::Io {
+            path: "the result".into(),
+            error,
+        })?;
+    }
     recorder.sample(&mut instance, time)?;
 
     let mut end = RunEnd::Completed;
     let mut n_steps: u64 = 0;
     loop {
         if time > stop_time || isclose(time, stop_time) {
+            break;
+        }
+        if options.stop_requested.is_some_and(|stop| stop()) {
+            end = RunEnd::Stopped { time };
             break;
         }
         let next_regular = start_time + (n_steps + 1) as f64 * step;

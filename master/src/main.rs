@@ -42,7 +42,13 @@ enum ScenarioCommand {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    tbi::interrupt::install();
+    // Long runs stop cleanly on a signal (the others keep the default: end at once).
+    if matches!(
+        cli.command,
+        Command::Run(_) | Command::Sweep(_) | Command::Bench(_) | Command::Simulate(_)
+    ) {
+        tbi::interrupt::install();
+    }
     let result = match cli.command {
         Command::Simulate(args) => tbi::simulate::main(args),
         Command::Run(args) => tbi::run::main(args),

@@ -1,7 +1,9 @@
 //! `tbi simulate`: run one FMI 2.0 Co-Simulation FMU alone, with the runner of
 //! [`fmi_import::simulate`] (its docs list the defaults, which are `fmpy simulate`'s).
 
-use fmi_import::simulate::{simulate, InputTable, RunEnd, SimulateError, SimulationOptions};
+use fmi_import::simulate::{
+    simulate_into, InputTable, RunEnd, SimulateError, SimulationOptions, SimulationResult,
+};
 use fmi_import::Fmu;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -68,20 +70,19 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
         start_values,
         input,
         echo_log: !args.quiet,
+        stop_requested: Some(crate::interrupt::interrupted),
     };
-    let result = simulate(&fmu, &options)?;
-
+    // Rows are written as they are computed: to standard output, or to `<output>.partial`,
+    // renamed to `<output>` when the run ends at the stop time or where the FMU ended it
+    // (termination, discard); an error or a signal keeps what was computed under the
+    // .partial name, so a result file is never half of a run without saying so.
+    let result;
     let output_name;
     if args.output.as_deref() == Some(Path::new("-")) {
         output_name = "standard output".to_owned();
         let stdout = io::stdout();
         let mut lock = stdout.lock();
-        result
-            .write_csv(&mut lock)
-            .map_err(|error| SimulateError::Io {
-                path: output_name.clone(),
-                error,
-            })?;
+        result = simulate_into(&fmu, &options, &mut lock)?;
     } else {
         let path = args.output.clone().unwrap_or_else(|| {
             let stem = args
@@ -91,15 +92,41 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
                 .unwrap_or_else(|| "result".into());
             PathBuf::from(format!("{stem}_out.csv"))
         });
-        output_name = path.display().to_string();
+        let mut partial_name = path.clone().into_os_string();
+        partial_name.push(".partial");
+        let partial = PathBuf::from(partial_name);
+        let mut sink = LazyFile::new(&partial);
+        let run = simulate_into(&fmu, &options, &mut sink);
         let io_error = |error| SimulateError::Io {
-            path: output_name.clone(),
+            path: partial.display().to_string(),
             error,
         };
-        let file = std::fs::File::create(&path).map_err(io_error)?;
-        let mut writer = io::BufWriter::new(file);
-        result.write_csv(&mut writer).map_err(io_error)?;
-        writer.flush().map_err(io_error)?;
+        sink.flush().map_err(io_error)?;
+        let complete = matches!(
+            run,
+            Ok(SimulationResult {
+                end: RunEnd::Completed | RunEnd::Terminated { .. } | RunEnd::Discarded { .. },
+                ..
+            })
+        );
+        if complete {
+            std::fs::rename(&partial, &path).map_err(|error| SimulateError::Io {
+                path: path.display().to_string(),
+                error,
+            })?;
+            output_name = path.display().to_string();
+        } else {
+            output_name = partial.display().to_string();
+        }
+        result = match run {
+            Ok(r) => r,
+            Err(e) if sink.opened() => {
+                return Err(SimulateError::Invalid(format!(
+                    "{e} (the rows computed before are in {output_name})"
+                )))
+            }
+            Err(e) => return Err(e),
+        };
     }
     match result.end {
         RunEnd::Completed => Ok(()),
@@ -117,5 +144,43 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
             time,
             output: output_name,
         }),
+        RunEnd::Stopped { time } => Err(SimulateError::Invalid(format!(
+            "{}: interrupted by a signal at t={time}; the rows up to there are in {output_name}",
+            fmu.name()
+        ))),
+    }
+}
+
+/// A file created at the first write (so a run refused before its first row leaves none).
+struct LazyFile<'a> {
+    path: &'a Path,
+    file: Option<io::BufWriter<std::fs::File>>,
+}
+
+impl<'a> LazyFile<'a> {
+    fn new(path: &'a Path) -> Self {
+        LazyFile { path, file: None }
+    }
+
+    fn opened(&self) -> bool {
+        self.file.is_some()
+    }
+}
+
+impl Write for LazyFile<'_> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        if self.file.is_none() {
+            let f = std::fs::File::create(self.path)
+                .map_err(|e| io::Error::new(e.kind(), format!("{}: {e}", self.path.display())))?;
+            self.file = Some(io::BufWriter::new(f));
+        }
+        self.file.as_mut().expect("opened above").write(buf)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        match self.file.as_mut() {
+            Some(f) => f.flush(),
+            None => Ok(()),
+        }
     }
 }

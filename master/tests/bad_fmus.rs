@@ -249,6 +249,13 @@ fn do_step_error() {
         !fmu.parent().unwrap().join("out.csv").exists(),
         "no result file after an error"
     );
+    assert!(
+        e.contains("(the rows computed before are in out.csv.partial)"),
+        "{e}"
+    );
+    // the rows up to the step that failed (from t = 1) were streamed and kept
+    let partial = TextCsv::read(&fmu.parent().unwrap().join("out.csv.partial"));
+    assert_eq!(partial.rows.last().unwrap()[0], "1.0");
 }
 
 #[test]

@@ -384,3 +384,52 @@ fn a_truncated_shared_object_is_refused_before_dlopen() {
     );
     c.assert_clean();
 }
+
+#[test]
+fn a_signal_ends_tbi_simulate_with_the_rows_so_far_kept() {
+    let c = Case::new("simulate-signal");
+    let s = c.scenario(&[]);
+    let r = c.tbi(&["export", s.to_str().unwrap(), "--out", "fmus"]);
+    assert!(r.status.success(), "{}", text(&r.stderr));
+    let child = c
+        .command(&[
+            "simulate",
+            "fmus/bridge.fmu",
+            "--stop-time",
+            "5",
+            "--step-size",
+            "1e-6",
+            "--output",
+            "out.csv",
+            "--quiet",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let partial = c.work().join("out.csv.partial");
+    let t0 = std::time::Instant::now();
+    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 100_000 {
+        assert!(t0.elapsed().as_secs() < 120, "the run did not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("sh")
+        .args(["-c", &format!("kill -TERM {}", child.id())])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted by a signal") && err.contains("out.csv.partial"),
+        "{err}"
+    );
+    assert!(
+        !c.work().join("out.csv").exists(),
+        "no complete-looking result file"
+    );
+    let rows = std::fs::read_to_string(&partial).unwrap().lines().count();
+    assert!(rows > 100, "the rows computed so far are kept ({rows})");
+    c.assert_clean();
+}
