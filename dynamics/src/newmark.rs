@@ -52,4 +52,19 @@ impl Newmark {
         let dx = x_new - x;
         (self.a1 * dx - xd, self.a0 * dx - self.a2 * xd - xdd)
     }
+
+    /// The predictors `(x + h ẋ + h²/4 ẍ, ẋ + h/2 ẍ)`: the new displacement and velocity
+    /// without the new acceleration's share.
+    #[inline]
+    pub fn predict(&self, x: f64, xd: f64, xdd: f64) -> (f64, f64) {
+        let h = self.h;
+        (x + h * xd + 0.25 * h * h * xdd, xd + 0.5 * h * xdd)
+    }
+
+    /// Displacement and velocity from the predictors and the new acceleration `a`.
+    #[inline]
+    pub fn correct(&self, (xp, xdp): (f64, f64), a: f64) -> (f64, f64) {
+        let h = self.h;
+        (xp + 0.25 * h * h * a, xdp + 0.5 * h * a)
+    }
 }

@@ -124,7 +124,9 @@ fn converged_partitions_equal_monolithic() {
         "max relative difference {max_rel:e}, mean iterations {}",
         total_iters as f64 / steps as f64
     );
-    // Measured 3.4e-12 (2.7e-12 on an earlier build: round-off under the 1e-13 interface
-    // residual, so it moves with the code); bound about 3× the measurement.
-    assert!(max_rel < 1e-11, "partitioned vs monolithic: {max_rel:e}");
+    // Round-off under the 1e-13 interface residual, so it moves with the code: 3.4e-12 while
+    // both solved Newmark for the new displacement; 1.1e-11 since the partitions solve it for
+    // the new accelerations (the same step, better conditioned for tiny steps) and the
+    // monolithic solver still for displacements. Bound about twice the measurement.
+    assert!(max_rel < 2.5e-11, "partitioned vs monolithic: {max_rel:e}");
 }

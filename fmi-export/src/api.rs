@@ -262,6 +262,11 @@ unsafe fn instantiate_checked<M: FmuModel>(
     }
     // SAFETY: NULL or NUL-terminated (caller).
     let given_guid = match unsafe { string(fmu_guid, "fmuGUID") } {
+        Ok("") => {
+            return refuse(
+                "fmuGUID is empty; pass the guid attribute of modelDescription.xml".to_owned(),
+            )
+        }
         Ok(g) => g.to_owned(),
         Err(e) => return refuse(e),
     };
@@ -1062,6 +1067,29 @@ mod tests {
             assert_eq!(state_of(c), State::Instantiated);
             free_instance::<Mock>(c);
         }
+    }
+
+    #[test]
+    fn an_empty_guid_is_refused_with_a_logged_reason() {
+        let log = LogCapture::new();
+        let callbacks = log.callbacks();
+        let c = unsafe {
+            instantiate::<Mock>(
+                "mock",
+                c"m".as_ptr(),
+                fmi2CoSimulation,
+                c"".as_ptr(),
+                c"file:///tmp/resources".as_ptr(),
+                &callbacks,
+                fmi2False,
+                fmi2False,
+            )
+        };
+        assert!(c.is_null());
+        assert!(log
+            .take()
+            .iter()
+            .any(|r| r.is_error() && r.message.contains("fmuGUID is empty")));
     }
 
     #[test]

@@ -93,13 +93,31 @@ impl Fmu {
                 message: "the archive has no modelDescription.xml at its root".into(),
             });
         }
-        let xml = std::fs::read_to_string(&md_path).map_err(|e| FmiError::Archive {
+        let md_error = |message: String| FmiError::Archive {
             fmu: name.clone(),
             entry: Some("modelDescription.xml".into()),
-            message: format!("cannot read as UTF-8 text: {e}"),
+            message,
+        };
+        let bytes = std::fs::read(&md_path).map_err(|e| md_error(format!("cannot read: {e}")))?;
+        let xml = String::from_utf8(bytes).map_err(|e| {
+            md_error(format!(
+                "not valid UTF-8 at byte {}",
+                e.utf8_error().valid_up_to()
+            ))
         })?;
         let model_description =
             ModelDescription::parse(&xml, &format!("{name}: modelDescription.xml"))?;
+        // The rules `fmpy validate` checks (and FMPy's simulate applies), before any code of
+        // the FMU runs: unique names, value references not shared by an input and an output,
+        // ModelStructure indices, declared types, ...
+        let problems = model_description.validate();
+        if !problems.is_empty() {
+            return Err(unsupported(format!(
+                "modelDescription.xml breaks {} rule(s) of FMI 2.0:\n  {}",
+                problems.len(),
+                problems.join("\n  ")
+            )));
+        }
         let identifier =
             match &model_description.co_simulation {
                 Some(cs) => cs.model_identifier.clone(),

@@ -102,3 +102,33 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
     }
     result
 }
+
+/// A buffered file whose write errors name it ("history.csv: No space left on device").
+pub struct NamedFile {
+    path: PathBuf,
+    inner: std::io::BufWriter<std::fs::File>,
+}
+
+impl NamedFile {
+    pub fn create(path: &Path) -> Result<NamedFile, String> {
+        let f = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(NamedFile {
+            path: path.to_path_buf(),
+            inner: std::io::BufWriter::new(f),
+        })
+    }
+
+    fn named(&self, e: std::io::Error) -> std::io::Error {
+        std::io::Error::new(e.kind(), format!("{}: {e}", self.path.display()))
+    }
+}
+
+impl Write for NamedFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.inner.write(buf).map_err(|e| self.named(e))
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush().map_err(|e| self.named(e))
+    }
+}

@@ -2,11 +2,9 @@
 //! FMUs, and write `summary.json`, `history.csv` and plots into the output folder.
 
 use crate::model::{build, Limits, Model};
-use crate::outdir::OutputDir;
+use crate::outdir::{NamedFile, OutputDir};
 use crate::scenario::{Scenario, SolverKind};
 use crate::summary::Summary;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tbi_dynamics::response::{Layout, Recorder};
@@ -97,11 +95,10 @@ pub fn run_scenario(
     let claim = OutputDir::claim(out)?;
     let out = claim.path();
     let history = out.join("history.csv");
-    let file = File::create(&history).map_err(|e| format!("{}: {e}", history.display()))?;
     let mut rec = Recorder::new(
         layout(&model),
         &model.probes.iter().map(|p| p.1).collect::<Vec<_>>(),
-        Some(BufWriter::new(file)),
+        Some(NamedFile::create(&history)?),
     )?;
     let start = Instant::now();
     let result = match scenario.run.solver {

@@ -213,6 +213,33 @@ fn no_model_description() {
 }
 
 #[test]
+fn a_description_breaking_fmi_rules_is_refused_before_the_fmu_runs() {
+    // two variables named "x" (what `fmpy validate` reports), as FMPy's simulate refuses it
+    let variant = Variant::new("TwoX").replace("name=\"x0\"", "name=\"x\"");
+    let fmu = build_fmu_unchecked(&variant);
+    let e = refused(&fmu);
+    assert!(
+        e.contains("TwoX.fmu: modelDescription.xml breaks") && e.contains("\"x\""),
+        "{e}"
+    );
+    assert!(!fmu.parent().unwrap().join("out.csv").exists());
+    assert!(!fmu.parent().unwrap().join("out.csv.partial").exists());
+}
+
+#[test]
+fn a_description_that_is_not_utf8_is_refused_with_the_byte_offset() {
+    let dir = scratch("notutf8");
+    let xml: &[u8] = b"<?xml version=\"1.0\"?>\n<fmiModelDescription description=\"\xff\"/>\n";
+    let at = xml.iter().position(|&b| b == 0xff).unwrap();
+    let fmu = zip_with(&dir, "Latin1.fmu", &[("modelDescription.xml", xml)]);
+    let e = refused(&fmu);
+    assert!(
+        e.contains("Latin1.fmu") && e.contains(&format!("not valid UTF-8 at byte {at}")),
+        "{e}"
+    );
+}
+
+#[test]
 fn model_exchange_only() {
     let variant = Variant::new("MeOnly").replace("<CoSimulation", "<ModelExchange");
     let e = refused(&build_fmu_unchecked(&variant));

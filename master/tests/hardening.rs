@@ -433,3 +433,39 @@ fn a_signal_ends_tbi_simulate_with_the_rows_so_far_kept() {
     assert!(rows > 100, "the rows computed so far are kept ({rows})");
     c.assert_clean();
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_is_reported_with_the_file_name() {
+    let c = Case::new("full");
+    let s = c.scenario(&[]);
+    let out = c.work().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    // writes to /dev/full fail with ENOSPC, as on a full disk
+    std::os::unix::fs::symlink("/dev/full", out.join("history.csv")).unwrap();
+    let r = c.tbi(&["run", s.to_str().unwrap(), "--out", "out", "--quiet"]);
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("history.csv") && err.contains("No space left on device"),
+        "{err}"
+    );
+    c.assert_clean();
+}
+
+#[test]
+fn a_negative_step_size_reaches_the_runner_check() {
+    let c = Case::new("negative-step");
+    let s = c.scenario(&[]);
+    let r = c.tbi(&["export", s.to_str().unwrap(), "--out", "fmus"]);
+    assert!(r.status.success(), "{}", text(&r.stderr));
+    let before = c.files();
+    let r = c.tbi(&["simulate", "fmus/bridge.fmu", "--step-size", "-1"]);
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("bridge.fmu") && err.contains("step size -1 must be a positive number"),
+        "{err}"
+    );
+    assert_eq!(c.files(), before, "{err}");
+}

@@ -213,3 +213,40 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
     }
     (start, w)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_non_finite_number_is_named() {
+        let mut b = ModalBridge {
+            x_start_m: 0.0,
+            x_end_m: 10.0,
+            frequencies_hz: vec![1.0, 2.0],
+            damping: vec![0.01, 0.01],
+            labels: vec!["V-S-1".into(), "V-A-1".into()],
+            e_m: 0.0,
+            h4_m: 0.0,
+            shapes: Shapes::Sine {
+                span_m: 10.0,
+                half_waves: vec![1, 2],
+                amplitudes: vec![[0.0, 0.1, 0.0], [0.0, 0.1, 0.0]],
+            },
+        };
+        assert_eq!(b.first_non_finite(), None);
+        b.frequencies_hz[1] = f64::INFINITY;
+        assert_eq!(
+            b.first_non_finite().unwrap(),
+            "mode 2: frequency inf Hz, damping 0.01"
+        );
+        b.frequencies_hz[1] = 2.0;
+        if let Shapes::Sine { amplitudes, .. } = &mut b.shapes {
+            amplitudes[0][1] = f64::NAN;
+        }
+        assert!(b
+            .first_non_finite()
+            .unwrap()
+            .starts_with("mode 1: shape amplitude"));
+    }
+}
