@@ -10,10 +10,9 @@ use crate::coupling::{
     advance, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, Participant,
     StepStatus, System,
 };
-use crate::export::{Exported, Side};
 use crate::model::Model;
 use crate::summary::CouplingSummary;
-use fmi_import::{Fmu, FmuState, Instance, InstantiateOptions, StepResult};
+use fmi_import::{Fmu, FmuState, Instance, StepResult};
 use fmu_bridge::layout::probe_values;
 use model_description::VariableKind;
 use std::collections::HashMap;
@@ -87,88 +86,6 @@ impl Participant for FmuParticipant {
     }
 }
 
-/// Value reference of a variable by name.
-fn vr_map(fmu: &Fmu) -> HashMap<String, u32> {
-    fmu.model_description()
-        .model_variables
-        .iter()
-        .map(|v| (v.name.clone(), v.value_reference))
-        .collect()
-}
-
-/// Load, instantiate and initialise both FMUs of an export, wired along
-/// [`crate::export::connections`]; returns the system (bridge 0, train 1) ready for
-/// stepping at t = 0.
-pub fn build_system(exported: &Exported, stop: f64) -> Result<System, Box<dyn std::error::Error>> {
-    let bfmu = Fmu::load(&exported.bridge)?;
-    let tfmu = Fmu::load(&exported.train)?;
-    let opts = |name: &str| InstantiateOptions {
-        instance_name: Some(name.to_string()),
-        visible: false,
-        logging_on: false,
-        echo_log: true,
-    };
-    let mut b = bfmu.instantiate(&opts("bridge"))?;
-    let mut t = tfmu.instantiate(&opts("train"))?;
-    let (bm, tm) = (vr_map(&bfmu), vr_map(&tfmu));
-    let links = crate::export::connections(&exported.bridge_layout, &exported.train_layout)?;
-    let mut connections = Vec::with_capacity(links.len());
-    for link in links {
-        // The packaged descriptions must say what the layouts say.
-        for (side, vr) in [(link.from, link.from_vr), (link.to, link.to_vr)] {
-            let map = if side == Side::Bridge { &bm } else { &tm };
-            match map.get(&link.name) {
-                Some(&declared) if declared == vr => {}
-                declared => {
-                    return Err(format!(
-                        "{}.fmu: {} has value reference {declared:?}, its layout says {vr}",
-                        side.name(),
-                        link.name
-                    )
-                    .into())
-                }
-            }
-        }
-        connections.push(crate::coupling::Connection {
-            from: link.from as usize,
-            from_vr: link.from_vr,
-            to: link.to as usize,
-            to_vr: link.to_vr,
-        });
-    }
-    for inst in [&mut b, &mut t] {
-        inst.setup_experiment(None, 0.0, Some(stop * (1.0 + 1e-12) + 1e-9))?;
-        inst.enter_initialization_mode()?;
-    }
-    // Initial exchange in initialisation mode (outputs depend on inputs there): repeat until
-    // the values settle (one pass when the train starts off the deck).
-    let mut last: Vec<f64> = Vec::new();
-    for _ in 0..50 {
-        let mut values = Vec::with_capacity(connections.len());
-        for c in &connections {
-            let mut v = [0.0];
-            let src = if c.from == 0 { &mut b } else { &mut t };
-            src.get_real(&[c.from_vr], &mut v)?;
-            let dst = if c.to == 0 { &mut b } else { &mut t };
-            dst.set_real(&[c.to_vr], &v)?;
-            values.push(v[0]);
-        }
-        if values == last {
-            break;
-        }
-        last = values;
-    }
-    b.exit_initialization_mode()?;
-    t.exit_initialization_mode()?;
-    Ok(System {
-        participants: vec![
-            Box::new(FmuParticipant::new(&bfmu, b)),
-            Box::new(FmuParticipant::new(&tfmu, t)),
-        ],
-        connections,
-    })
-}
-
 /// Run the model by co-simulation of its two FMUs (exported into `fmu_dir`); returns the
 /// `coupling` part of the summary.
 pub fn run_cosim<W: std::io::Write>(
@@ -178,9 +95,12 @@ pub fn run_cosim<W: std::io::Write>(
     rec: &mut Recorder<W>,
     show_progress: bool,
 ) -> Result<CouplingSummary, Box<dyn std::error::Error>> {
-    let exported = crate::export::export_with(model, fmu_dir, false)?;
+    // One co-simulation code path: the FMUs are run as the exported SSP system, as
+    // `tbi cosim system.ssp` runs it.
+    let exported = crate::export::export_with(model, cfg, fmu_dir, true)?;
     let t_end = model.t_end();
-    let mut sys = build_system(&exported, t_end)?;
+    let open = crate::ssp::open(&exported.ssp)?;
+    let mut sys = crate::ssp::wire(&open, &[], 0.0, t_end)?.system;
     let mut scheme = build_scheme(cfg);
     scheme.initialize(&mut sys)?;
     let (bl, tl) = (&exported.bridge_layout, &exported.train_layout);

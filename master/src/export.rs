@@ -8,6 +8,7 @@
 //! train (`train.json`). GUIDs are derived from the build identifier and those bytes, so a
 //! description always matches its resources.
 
+use crate::coupling::CouplingConfig;
 use crate::model::Model;
 use crate::package::write_fmu;
 use fmu_bridge::layout::BridgeLayout;
@@ -49,7 +50,7 @@ pub struct Exported {
 pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
     let scenario = crate::scenario::load(args.scenario.as_deref(), None, None)?;
     let model = crate::model::build(&scenario)?;
-    let e = export(&model, &args.out)?;
+    let e = export(&model, &scenario.coupling, &args.out)?;
     for fmu in [&e.bridge, &e.train] {
         if let Err(why) = check_instantiates(fmu) {
             for f in [&e.bridge, &e.train, &e.ssp] {
@@ -175,12 +176,17 @@ fn description_xml(
 const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow the pattern <code>ws[i].name</code> (wheelset i, 1-based), SI units; y right, z down, roll about x right side down. Inputs set before fmi2DoStep(t, h) are the values at t + h: an implicit (iterating) master reproduces the monolithic solution, a plain fixed-step master sees a one-step lag. Each fmi2DoStep is one Newmark (average acceleration) step of size h.</p></body></html>";
 
 /// Package the model's FMUs and SSP into `out`. Existing files with the same GUIDs are reused.
-pub fn export(model: &Model, out: &Path) -> Result<Exported, String> {
-    export_with(model, out, true)
+pub fn export(model: &Model, coupling: &CouplingConfig, out: &Path) -> Result<Exported, String> {
+    export_with(model, coupling, out, true)
 }
 
 /// As [`export`]; `with_ssp = false` skips `system.ssp` (the co-simulation runs do not need it).
-pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported, String> {
+pub fn export_with(
+    model: &Model,
+    coupling: &CouplingConfig,
+    out: &Path,
+    with_ssp: bool,
+) -> Result<Exported, String> {
     // JSON has no NaN or infinity (serde would write null): refuse before writing anything.
     if let Some(what) = model.bridge.first_non_finite() {
         return Err(format!(
@@ -280,6 +286,7 @@ pub fn export_with(model: &Model, out: &Path, with_ssp: bool) -> Result<Exported
             (&bridge_layout, &bridge_res),
             (&train_layout, &train_res),
             stop,
+            (coupling, model.dt),
         )?;
     }
     Ok(Exported {
@@ -407,7 +414,13 @@ fn write_ssp(
     (bl, b): (&BridgeLayout, &BridgeResources),
     (tl, t): (&TrainLayout, &TrainResources),
     stop: f64,
+    (coupling, step): (&CouplingConfig, f64),
 ) -> Result<(), String> {
+    let annotation: String = coupling
+        .attributes()
+        .iter()
+        .map(|(k, v)| format!(" {k}=\"{}\"", xml_escape(v)))
+        .collect();
     let connectors = |vars: Vec<Var>| -> String {
         vars.iter()
             .filter(|v| v.causality != Causality::Parameter)
@@ -428,7 +441,7 @@ fn write_ssp(
     }
     let ssd = format!(
         r#"<?xml version="1.0" encoding="UTF-8"?>
-<ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="train-bridge">
+<ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" xmlns:tbi="urn:tbi:coupling" version="1.0" name="train-bridge">
   <ssd:System name="train-bridge">
     <ssd:Elements>
       <ssd:Component name="bridge" type="application/x-fmu-sharedlibrary" source="resources/bridge.fmu">
@@ -442,13 +455,19 @@ fn write_ssp(
     </ssd:Elements>
     <ssd:Connections>
 {}    </ssd:Connections>
+    <ssd:Annotations>
+      <ssc:Annotation type="{}">
+        <tbi:Coupling step_size="{step}"{annotation}/>
+      </ssc:Annotation>
+    </ssd:Annotations>
   </ssd:System>
   <ssd:DefaultExperiment startTime="0" stopTime="{stop}"/>
 </ssd:SystemStructureDescription>
 "#,
         connectors(bl.variables(b)),
         connectors(tl.variables(t)),
-        conns
+        conns,
+        crate::ssp::COUPLING_ANNOTATION,
     );
     let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut z = zip::ZipWriter::new(file);

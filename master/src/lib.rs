@@ -2,6 +2,7 @@
 //! `fmi-import` crate).
 pub mod bench;
 pub mod cosim;
+pub mod cosim_cmd;
 pub mod coupling;
 pub mod export;
 pub mod interrupt;
@@ -14,6 +15,7 @@ pub mod progress;
 pub mod run;
 pub mod scenario;
 pub mod simulate;
+pub mod ssp;
 pub mod summary;
 pub mod suspension;
 pub mod sweep;

@@ -32,6 +32,8 @@ enum Command {
     Bench(tbi::bench::BenchArgs),
     /// Run any FMI 2.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
     Simulate(tbi::simulate::SimulateArgs),
+    /// Run an SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the coupling algorithms.
+    Cosim(tbi::cosim_cmd::CosimArgs),
 }
 
 #[derive(Subcommand)]
@@ -45,12 +47,17 @@ fn main() -> ExitCode {
     // Long runs stop cleanly on a signal (the others keep the default: end at once).
     if matches!(
         cli.command,
-        Command::Run(_) | Command::Sweep(_) | Command::Bench(_) | Command::Simulate(_)
+        Command::Run(_)
+            | Command::Sweep(_)
+            | Command::Bench(_)
+            | Command::Simulate(_)
+            | Command::Cosim(_)
     ) {
         tbi::interrupt::install();
     }
     let result = match cli.command {
         Command::Simulate(args) => tbi::simulate::main(args),
+        Command::Cosim(args) => tbi::cosim_cmd::main(args),
         Command::Run(args) => tbi::run::main(args),
         Command::Export(args) => tbi::export::main(args),
         Command::Modes(args) => tbi::modes::main(args),

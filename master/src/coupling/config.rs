@@ -173,6 +173,29 @@ impl Default for CouplingConfig {
 }
 
 impl CouplingConfig {
+    /// Every option as `(key, value)` text, the keys of a scenario's `[coupling]` table (what
+    /// the SSP annotation of this project carries).
+    pub fn attributes(&self) -> Vec<(&'static str, String)> {
+        let mut a = vec![
+            ("scheme", self.scheme.as_str().to_owned()),
+            ("acceleration", self.acceleration.as_str().to_owned()),
+            ("relaxation", self.relaxation.to_string()),
+            ("rtol", format!("{:e}", self.rtol)),
+            ("atol", format!("{:e}", self.atol)),
+            ("max_iterations", self.max_iterations.to_string()),
+            ("predictor", self.predictor.as_str().to_owned()),
+            ("reuse_steps", self.reuse_steps.to_string()),
+            (
+                "on_non_convergence",
+                self.on_non_convergence.as_str().to_owned(),
+            ),
+        ];
+        if let Some(m) = self.min_step {
+            a.push(("min_step", format!("{m:e}")));
+        }
+        a
+    }
+
     /// Checks the ranges of all fields; the error names the key and the value.
     pub fn validate(&self) -> Result<(), CouplingError> {
         let bad = |key: &str, value: &dyn fmt::Display, rule: &str| {

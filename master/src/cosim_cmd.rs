@@ -1,0 +1,238 @@
+//! `tbi cosim SYSTEM.ssp`: run any SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the
+//! coupling algorithms of [`crate::coupling`] (see [`crate::ssp`] for what is read).
+//!
+//! Times and step: the command line, else the SSD (`DefaultExperiment`, and `step_size`
+//! of the coupling annotation); the step size is required. Coupling options: the
+//! command line over the annotation over the defaults of [`CouplingConfig`].
+//!
+//! Output: a CSV (default `<SYSTEM stem>_out.csv`) with `time`, then every connected output
+//! as `component.variable` (in connection order), then the `--record` variables; a row
+//! after initialisation and one after each communication step, every number in full
+//! precision (shortest round-trip form, scientific notation as in `history.csv`). Beside it `<CSV>.json`: steps, iterations per step
+//! (mean, max), the largest final residual of the interface iteration, and the options used.
+
+use crate::coupling::CouplingStatistics;
+use crate::coupling::{advance, build_scheme, AccelerationKind, CouplingConfig, SchemeKind};
+use std::io::Write;
+use std::path::PathBuf;
+use std::str::FromStr;
+
+/// Command-line arguments of `tbi cosim`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CosimArgs {
+    /// The system: a `.ssp` archive or a `SystemStructure.ssd` file.
+    pub system: PathBuf,
+    /// Start time, s (default: DefaultExperiment startTime, else 0).
+    #[arg(long, allow_negative_numbers = true)]
+    pub start_time: Option<f64>,
+    /// Stop time, s (default: DefaultExperiment stopTime).
+    #[arg(long, allow_negative_numbers = true)]
+    pub stop_time: Option<f64>,
+    /// Communication step, s (default: the annotation's step_size).
+    #[arg(long, allow_negative_numbers = true)]
+    pub step_size: Option<f64>,
+    /// `implicit`, `gauss-seidel` or `jacobi`.
+    #[arg(long)]
+    pub scheme: Option<String>,
+    /// `constant`, `aitken` or `iqn-ils` (implicit scheme).
+    #[arg(long)]
+    pub acceleration: Option<String>,
+    #[arg(long, allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
+    #[arg(long, allow_negative_numbers = true)]
+    pub atol: Option<f64>,
+    #[arg(long)]
+    pub max_iterations: Option<usize>,
+    /// Set a parameter or input before initialisation: `COMPONENT.VARIABLE=VALUE`.
+    #[arg(long = "set", value_name = "COMPONENT.VARIABLE=VALUE")]
+    pub set: Vec<String>,
+    /// Also record `COMPONENT.VARIABLE` (repeatable).
+    #[arg(long = "record", value_name = "COMPONENT.VARIABLE")]
+    pub record: Vec<String>,
+    /// Result CSV (default `<SYSTEM stem>_out.csv`).
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn split_name(item: &str, option: &str) -> Result<(String, String), String> {
+    item.split_once('.')
+        .map(|(c, v)| (c.to_owned(), v.to_owned()))
+        .ok_or_else(|| format!("{option} {item}: expected COMPONENT.VARIABLE"))
+}
+
+pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let open = crate::ssp::open(&args.system)?;
+    let (mut cfg, annotated_step): (CouplingConfig, Option<f64>) = open.coupling()?;
+    if let Some(s) = &args.scheme {
+        cfg.scheme = SchemeKind::from_str(s).map_err(|e| format!("--scheme {s}: {e}"))?;
+    }
+    if let Some(a) = &args.acceleration {
+        cfg.acceleration =
+            AccelerationKind::from_str(a).map_err(|e| format!("--acceleration {a}: {e}"))?;
+    }
+    if let Some(v) = args.rtol {
+        cfg.rtol = v;
+    }
+    if let Some(v) = args.atol {
+        cfg.atol = v;
+    }
+    if let Some(v) = args.max_iterations {
+        cfg.max_iterations = v;
+    }
+    cfg.validate()
+        .map_err(|e| format!("coupling options: {e}"))?;
+    let start = args.start_time.or(open.ssd.start_time).unwrap_or(0.0);
+    let stop = args
+        .stop_time
+        .or(open.ssd.stop_time)
+        .ok_or_else(|| format!("{}: no stop time (give --stop-time)", open.origin))?;
+    let h = args
+        .step_size
+        .or(annotated_step)
+        .ok_or_else(|| format!("{}: no communication step (give --step-size)", open.origin))?;
+    if !(start.is_finite() && stop.is_finite() && stop > start) {
+        return Err(format!(
+            "start time {start} s and stop time {stop} s: the stop must come after the start"
+        )
+        .into());
+    }
+    if !(h.is_finite() && h > 0.0) {
+        return Err(format!("--step-size {h}: must be a positive number").into());
+    }
+    let steps = ((stop - start) / h - 1e-9).ceil().max(1.0);
+    if steps > 1e7 {
+        return Err(format!(
+            "the run would take {steps:.3e} communication steps, more than the limit of 1e7"
+        )
+        .into());
+    }
+    let steps = steps as usize;
+    let mut sets = Vec::new();
+    for item in &args.set {
+        let (name, value) = item
+            .split_once('=')
+            .ok_or_else(|| format!("--set {item}: expected COMPONENT.VARIABLE=VALUE"))?;
+        let (c, v) = split_name(name.trim(), "--set")?;
+        let value: f64 = value
+            .trim()
+            .parse()
+            .map_err(|_| format!("--set {item}: \"{value}\" is not a number"))?;
+        sets.push((c, v, value));
+    }
+    let mut wired = crate::ssp::wire(&open, &sets, start, stop)?;
+    if cfg.scheme == SchemeKind::Implicit {
+        // The interface iteration repeats each step after rolling the FMUs back.
+        for (c, fmu) in open.ssd.components.iter().zip(&wired.fmus) {
+            let can = fmu
+                .model_description()
+                .co_simulation
+                .as_ref()
+                .is_some_and(|cs| cs.can_get_and_set_fmu_state);
+            if !can {
+                return Err(format!(
+                    "{}: component \"{}\" ({}) cannot roll back (canGetAndSetFMUstate is not true), which the implicit scheme needs; use --scheme gauss-seidel or jacobi",
+                    open.origin, c.name, c.source
+                )
+                .into());
+            }
+        }
+    }
+    let mut columns: Vec<(String, usize, u32)> = wired
+        .outputs
+        .iter()
+        .map(|o| (o.name.clone(), o.participant, o.vr))
+        .collect();
+    for r in &args.record {
+        let (c, v) = split_name(r, "--record")?;
+        let i = open
+            .ssd
+            .components
+            .iter()
+            .position(|x| x.name == c)
+            .ok_or_else(|| format!("--record {r}: the system has no component \"{c}\""))?;
+        let var = wired.fmus[i]
+            .model_description()
+            .variable(&v)
+            .ok_or_else(|| format!("--record {r}: component \"{c}\" has no variable \"{v}\""))?;
+        columns.push((r.clone(), i, var.value_reference));
+    }
+    let output = args.output.clone().unwrap_or_else(|| {
+        let stem = args
+            .system
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "system".into());
+        PathBuf::from(format!("{stem}_out.csv"))
+    });
+    let mut csv = crate::outdir::NamedFile::create(&output)?;
+    let header: Vec<&str> = std::iter::once("time")
+        .chain(columns.iter().map(|c| c.0.as_str()))
+        .collect();
+    writeln!(csv, "{}", header.join(","))?;
+    let sys = &mut wired.system;
+    let row = |sys: &mut crate::coupling::System,
+               t: f64,
+               csv: &mut crate::outdir::NamedFile|
+     -> Result<(), Box<dyn std::error::Error>> {
+        let mut line = format!("{t:e}");
+        for (_, p, vr) in &columns {
+            let mut v = [0.0];
+            sys.participants[*p].get_real(&[*vr], &mut v)?;
+            line.push_str(&format!(",{:e}", v[0]));
+        }
+        writeln!(csv, "{line}")?;
+        Ok(())
+    };
+    let mut scheme = build_scheme(&cfg);
+    scheme.initialize(sys)?;
+    row(sys, start, &mut csv)?;
+    let mut stats = CouplingStatistics::new();
+    let pb = crate::progress::bar(steps, !args.quiet);
+    for k in 1..=steps {
+        let t = start + (k - 1) as f64 * h;
+        crate::interrupt::check(t)?;
+        let t1 = (start + k as f64 * h).min(stop);
+        let report = advance(scheme.as_mut(), sys, t, t1 - t, cfg.policy(t1 - t))
+            .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
+        stats.record(&report);
+        row(sys, t1, &mut csv)?;
+        if k % 256 == 0 {
+            pb.set_position(k as u64);
+        }
+    }
+    pb.finish_and_clear();
+    csv.flush()?;
+    let summary = serde_json::json!({
+        "system": open.origin,
+        "start_time_s": start,
+        "stop_time_s": stop,
+        "step_size_s": h,
+        "scheme": cfg.scheme.as_str(),
+        "acceleration": cfg.acceleration.as_str(),
+        "rtol": cfg.rtol,
+        "atol": cfg.atol,
+        "steps": stats.steps,
+        "iterations_mean": stats.mean_iterations(),
+        "iterations_max": stats.max_iterations,
+        "max_residual": stats.max_residual,
+        "accepted_unconverged": stats.accepted_unconverged,
+    });
+    let mut json_name = output.clone().into_os_string();
+    json_name.push(".json");
+    crate::outdir::write_atomically(
+        &PathBuf::from(json_name),
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    if !args.quiet {
+        eprintln!(
+            "tbi: {} steps, {:.2} iterations per step; results in {}",
+            stats.steps,
+            stats.mean_iterations(),
+            output.display()
+        );
+    }
+    Ok(())
+}

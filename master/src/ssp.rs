@@ -1,0 +1,553 @@
+//! SSP 1.0 systems: read `SystemStructure.ssd` (from a `.ssp` archive or a folder) and wire
+//! its FMUs into a coupling [`System`].
+//!
+//! Read: the components (FMUs inside the archive or next to the `.ssd`, by `source`), their
+//! connections (an output feeding one or more inputs), parameter bindings (inline
+//! `ssv:ParameterValues`, or `.ssv` files by `source`), `DefaultExperiment` start and stop
+//! times, and this project's annotation for the coupling options:
+//!
+//! ```xml
+//! <ssd:System name="…"> …
+//!   <ssd:Annotations>
+//!     <ssc:Annotation type="org.tbi.coupling">
+//!       <tbi:Coupling step_size="0.002" scheme="implicit" acceleration="iqn-ils" rtol="1e-10"/>
+//!     </ssc:Annotation>
+//!   </ssd:Annotations>
+//! </ssd:System>
+//! ```
+//!
+//! whose attributes are the keys of a scenario's `[coupling]` table plus `step_size` (s);
+//! command-line options override them. Only Real connections are coupled; an Integer,
+//! Boolean or String connection is refused naming it. The participants are stepped in the
+//! order of the SSD's components (the Gauss–Seidel order).
+//!
+//! Initialisation: every FMU is set up and enters initialisation mode, the parameter
+//! bindings (then `--set` values) are applied, and the connected values are exchanged
+//! until they no longer change (at most 50 rounds), so inputs start from the outputs they
+//! are connected to.
+
+use crate::cosim::FmuParticipant;
+use crate::coupling::{Connection, CouplingConfig, System};
+use fmi_import::archive::UnpackedDir;
+use fmi_import::{Fmu, InstantiateOptions, UnpackLimits};
+use model_description::{Causality, ModelDescription, Variability, VariableKind};
+use quick_xml::events::{BytesStart, Event};
+use quick_xml::Reader;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The annotation type of the coupling options.
+pub const COUPLING_ANNOTATION: &str = "org.tbi.coupling";
+
+/// A parsed `SystemStructure.ssd`.
+#[derive(Debug, Clone, Default)]
+pub struct Ssd {
+    pub name: String,
+    pub components: Vec<Component>,
+    pub connections: Vec<SspConnection>,
+    pub start_time: Option<f64>,
+    pub stop_time: Option<f64>,
+    /// The attributes of the coupling annotation, as written.
+    pub coupling: Vec<(String, String)>,
+}
+
+/// One `ssd:Component`.
+#[derive(Debug, Clone, Default)]
+pub struct Component {
+    pub name: String,
+    /// `source`: the FMU, relative to the archive or the `.ssd`'s folder.
+    pub source: String,
+    /// Inline parameter values, then those of `.ssv` files (`source`), in order.
+    pub parameters: Vec<(String, String)>,
+    /// `.ssv` files bound to the component.
+    pub parameter_files: Vec<String>,
+}
+
+/// One `ssd:Connection`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SspConnection {
+    pub start_element: String,
+    pub start_connector: String,
+    pub end_element: String,
+    pub end_connector: String,
+}
+
+fn attr(e: &BytesStart<'_>, key: &str) -> Option<String> {
+    e.attributes()
+        .flatten()
+        .find(|a| a.key.local_name().as_ref() == key)
+        .and_then(|a| {
+            a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
+                .ok()
+                .map(|v| v.into_owned())
+        })
+}
+
+fn line_of(text: &str, pos: usize) -> usize {
+    text[..pos.min(text.len())].matches('\n').count() + 1
+}
+
+/// Parse SSD text; `origin` names it in messages (with the line).
+pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
+    let mut r = Reader::from_str(xml);
+    let mut ssd = Ssd::default();
+    let mut stack: Vec<String> = Vec::new();
+    let mut in_annotation = false;
+    let mut parameter: Option<String> = None;
+    loop {
+        let pos = r.buffer_position() as usize;
+        let event = r.read_event().map_err(|e| {
+            format!(
+                "{origin}:{}: malformed XML: {e}",
+                line_of(xml, r.error_position() as usize)
+            )
+        })?;
+        let at = |what: String| format!("{origin}:{}: {what}", line_of(xml, pos));
+        match event {
+            Event::Start(ref e) | Event::Empty(ref e) => {
+                let name = e.local_name().as_ref().to_owned();
+                let inside = |n: &str| stack.iter().any(|s| s == n);
+                match name.as_str() {
+                    "SystemStructureDescription" => {
+                        ssd.name = attr(e, "name").unwrap_or_default();
+                    }
+                    "Component" if inside("Elements") => {
+                        let c = Component {
+                            name: attr(e, "name")
+                                .ok_or_else(|| at("<Component> has no name".into()))?,
+                            source: attr(e, "source")
+                                .ok_or_else(|| at("<Component> has no source".into()))?,
+                            ..Default::default()
+                        };
+                        if ssd.components.iter().any(|o| o.name == c.name) {
+                            return Err(at(format!("component \"{}\" is defined twice", c.name)));
+                        }
+                        ssd.components.push(c);
+                    }
+                    "Connection" if inside("Connections") => {
+                        let get = |k: &str| {
+                            attr(e, k).ok_or_else(|| at(format!("<Connection> has no {k}")))
+                        };
+                        ssd.connections.push(SspConnection {
+                            start_element: get("startElement")?,
+                            start_connector: get("startConnector")?,
+                            end_element: get("endElement")?,
+                            end_connector: get("endConnector")?,
+                        });
+                    }
+                    "DefaultExperiment" => {
+                        let num = |k: &str| -> Result<Option<f64>, String> {
+                            attr(e, k)
+                                .map(|v| {
+                                    v.parse::<f64>().map_err(|_| {
+                                        at(format!(
+                                            "<DefaultExperiment {k}=\"{v}\"> is not a number"
+                                        ))
+                                    })
+                                })
+                                .transpose()
+                        };
+                        ssd.start_time = num("startTime")?;
+                        ssd.stop_time = num("stopTime")?;
+                    }
+                    "Annotation" => {
+                        in_annotation = attr(e, "type").as_deref() == Some(COUPLING_ANNOTATION);
+                    }
+                    "Coupling" if in_annotation => {
+                        ssd.coupling = e
+                            .attributes()
+                            .flatten()
+                            .map(|a| {
+                                (
+                                    a.key.local_name().as_ref().to_owned(),
+                                    a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
+                                        .map(|v| v.into_owned())
+                                        .unwrap_or_default(),
+                                )
+                            })
+                            .collect();
+                    }
+                    "ParameterBinding" if inside("Component") => {
+                        if let Some(src) = attr(e, "source") {
+                            let c = ssd.components.last_mut().expect("inside a component");
+                            c.parameter_files.push(src);
+                        }
+                    }
+                    "Parameter" if inside("Component") => {
+                        parameter = Some(
+                            attr(e, "name").ok_or_else(|| at("<Parameter> has no name".into()))?,
+                        );
+                    }
+                    "Real" | "Integer" | "Boolean" | "String" if parameter.is_some() => {
+                        let value = attr(e, "value")
+                            .ok_or_else(|| at(format!("<{name}> of a parameter has no value")))?;
+                        let c = ssd.components.last_mut().expect("inside a component");
+                        c.parameters
+                            .push((parameter.clone().expect("checked"), value));
+                    }
+                    _ => {}
+                }
+                if matches!(event, Event::Start(_)) {
+                    stack.push(name);
+                }
+            }
+            Event::End(ref e) => {
+                let name = e.local_name().as_ref().to_owned();
+                match name.as_str() {
+                    "Annotation" => in_annotation = false,
+                    "Parameter" => parameter = None,
+                    _ => {}
+                }
+                stack.pop();
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    if ssd.components.is_empty() {
+        return Err(format!("{origin}: the system has no components"));
+    }
+    Ok(ssd)
+}
+
+/// Parameter values of an `.ssv` file (`ssv:ParameterSet`).
+fn parse_ssv(xml: &str, origin: &str) -> Result<Vec<(String, String)>, String> {
+    let wrapped = format!(
+        "<ssd:SystemStructureDescription><ssd:System><ssd:Elements><ssd:Component name=\"ssv\" source=\"-\">{}</ssd:Component></ssd:Elements></ssd:System></ssd:SystemStructureDescription>",
+        xml.trim_start_matches(|c| c != '<')
+            .split_once("?>")
+            .map_or(xml, |(_, rest)| rest)
+    );
+    Ok(parse_ssd(&wrapped, origin)?.components.remove(0).parameters)
+}
+
+/// An SSP system on disk: its description and where its files are.
+pub struct OpenSystem {
+    pub ssd: Ssd,
+    /// Where `source` paths are resolved.
+    pub base: PathBuf,
+    /// The unpacked archive (removed on drop), if it was one.
+    _unpacked: Option<UnpackedDir>,
+    /// The file named on the command line, for messages.
+    pub origin: String,
+}
+
+/// Open a `.ssp` archive, or a `SystemStructure.ssd` file.
+pub fn open(path: &Path) -> Result<OpenSystem, String> {
+    let origin = path.display().to_string();
+    let (base, unpacked, ssd_path) = if path.extension().is_some_and(|e| e == "ssd") {
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        (base, None, path.to_path_buf())
+    } else {
+        let dir = fmi_import::archive::unpack(path, &UnpackLimits::default())
+            .map_err(|e| e.to_string())?;
+        let ssd = dir.path().join("SystemStructure.ssd");
+        if !ssd.is_file() {
+            return Err(format!(
+                "{origin}: the archive has no SystemStructure.ssd at its root"
+            ));
+        }
+        (dir.path().to_path_buf(), Some(dir), ssd)
+    };
+    let text = tbi_modes::input::read_text(&ssd_path, tbi_modes::input::MAX_SCENARIO_BYTES)
+        .map_err(|e| format!("{origin}: SystemStructure.ssd: {e}"))?;
+    let mut ssd = parse_ssd(&text, &format!("{origin}: SystemStructure.ssd"))?;
+    for c in &mut ssd.components {
+        for f in c.parameter_files.clone() {
+            let p = base.join(&f);
+            let text = tbi_modes::input::read_text(&p, tbi_modes::input::MAX_SCENARIO_BYTES)
+                .map_err(|e| format!("{origin}: {f}: {e}"))?;
+            c.parameters
+                .extend(parse_ssv(&text, &format!("{origin}: {f}"))?);
+        }
+    }
+    Ok(OpenSystem {
+        ssd,
+        base,
+        _unpacked: unpacked,
+        origin,
+    })
+}
+
+impl OpenSystem {
+    /// The coupling options of the annotation.
+    pub fn coupling(&self) -> Result<(CouplingConfig, Option<f64>), String> {
+        let mut step = None;
+        let mut toml = String::new();
+        for (k, v) in &self.ssd.coupling {
+            if k == "step_size" {
+                step = Some(v.parse::<f64>().map_err(|_| {
+                    format!(
+                        "{}: coupling annotation: step_size=\"{v}\" is not a number",
+                        self.origin
+                    )
+                })?);
+                continue;
+            }
+            let value = if v.parse::<f64>().is_ok() {
+                v.clone()
+            } else {
+                format!("{v:?}")
+            };
+            toml.push_str(&format!("{k} = {value}\n"));
+        }
+        let cfg: CouplingConfig = toml::from_str(&toml)
+            .map_err(|e| format!("{}: coupling annotation: {}", self.origin, e.message()))?;
+        cfg.validate()
+            .map_err(|e| format!("{}: coupling annotation: {e}", self.origin))?;
+        Ok((cfg, step))
+    }
+}
+
+/// A connected output, for the result CSV.
+#[derive(Debug, Clone)]
+pub struct Output {
+    /// `component.variable`.
+    pub name: String,
+    pub participant: usize,
+    pub vr: u32,
+}
+
+/// The wired system and what to record.
+pub struct Wired {
+    pub system: System,
+    /// Every connected output, once, in connection order.
+    pub outputs: Vec<Output>,
+    /// The loaded FMUs (participant order), for name look-ups.
+    pub fmus: Vec<Arc<Fmu>>,
+}
+
+fn real_variable<'a>(
+    md: &'a ModelDescription,
+    component: &str,
+    name: &str,
+    origin: &str,
+) -> Result<&'a model_description::ScalarVariable, String> {
+    let v = md
+        .variable(name)
+        .ok_or_else(|| format!("{origin}: component \"{component}\" has no variable \"{name}\""))?;
+    if !matches!(v.kind, VariableKind::Real(_)) {
+        return Err(format!(
+            "{origin}: {component}.{name} is not a Real variable; only Real connections are coupled"
+        ));
+    }
+    Ok(v)
+}
+
+/// Load, instantiate and initialise the system's FMUs, apply the parameter bindings and
+/// `sets` (`component.variable = value`), and exchange the connected values until they
+/// settle.
+pub fn wire(
+    open: &OpenSystem,
+    sets: &[(String, String, f64)],
+    start: f64,
+    stop: f64,
+) -> Result<Wired, String> {
+    let origin = &open.origin;
+    let mut fmus = Vec::new();
+    let mut instances = Vec::new();
+    let mut index = HashMap::new();
+    for (i, c) in open.ssd.components.iter().enumerate() {
+        let path = open.base.join(&c.source);
+        if !path.is_file() {
+            return Err(format!(
+                "{origin}: component \"{}\": its FMU {} does not exist",
+                c.name, c.source
+            ));
+        }
+        let fmu =
+            Fmu::load(&path).map_err(|e| format!("{origin}: component \"{}\": {e}", c.name))?;
+        let inst = fmu
+            .instantiate(&InstantiateOptions {
+                instance_name: Some(c.name.clone()),
+                visible: false,
+                logging_on: false,
+                echo_log: true,
+            })
+            .map_err(|e| e.to_string())?;
+        index.insert(c.name.clone(), i);
+        fmus.push(fmu);
+        instances.push(inst);
+    }
+    let mut connections = Vec::new();
+    let mut outputs: Vec<Output> = Vec::new();
+    for c in &open.ssd.connections {
+        let find = |element: &str| {
+            index.get(element).copied().ok_or_else(|| {
+                format!("{origin}: a connection names the unknown component \"{element}\"")
+            })
+        };
+        let (from, to) = (find(&c.start_element)?, find(&c.end_element)?);
+        let src = real_variable(
+            fmus[from].model_description(),
+            &c.start_element,
+            &c.start_connector,
+            origin,
+        )?;
+        let dst = real_variable(
+            fmus[to].model_description(),
+            &c.end_element,
+            &c.end_connector,
+            origin,
+        )?;
+        if src.causality != Causality::Output {
+            return Err(format!(
+                "{origin}: connection {}.{} → {}.{}: the start is not an output",
+                c.start_element, c.start_connector, c.end_element, c.end_connector
+            ));
+        }
+        if dst.causality != Causality::Input {
+            return Err(format!(
+                "{origin}: connection {}.{} → {}.{}: the end is not an input",
+                c.start_element, c.start_connector, c.end_element, c.end_connector
+            ));
+        }
+        connections.push(Connection {
+            from,
+            from_vr: src.value_reference,
+            to,
+            to_vr: dst.value_reference,
+        });
+        let name = format!("{}.{}", c.start_element, c.start_connector);
+        if !outputs.iter().any(|o| o.name == name) {
+            outputs.push(Output {
+                name,
+                participant: from,
+                vr: src.value_reference,
+            });
+        }
+    }
+    for inst in &mut instances {
+        inst.setup_experiment(None, start, Some(stop * (1.0 + 1e-12) + 1e-9))
+            .map_err(|e| e.to_string())?;
+        inst.enter_initialization_mode()
+            .map_err(|e| e.to_string())?;
+    }
+    let mut values: Vec<(usize, String, f64)> = Vec::new();
+    for (i, c) in open.ssd.components.iter().enumerate() {
+        for (name, text) in &c.parameters {
+            let v = text.parse::<f64>().map_err(|_| {
+                format!(
+                    "{origin}: component \"{}\": parameter {name} = \"{text}\" is not a number",
+                    c.name
+                )
+            })?;
+            values.push((i, name.clone(), v));
+        }
+    }
+    for (component, name, v) in sets {
+        let i = *index.get(component).ok_or_else(|| {
+            format!("--set {component}.{name}: the system has no component \"{component}\"")
+        })?;
+        values.push((i, name.clone(), *v));
+    }
+    for (i, name, v) in values {
+        let c = &open.ssd.components[i].name;
+        let var = real_variable(fmus[i].model_description(), c, &name, origin)?;
+        let settable = var.causality == Causality::Parameter
+            && matches!(var.variability, Variability::Fixed | Variability::Tunable)
+            || var.causality == Causality::Input;
+        if !settable {
+            return Err(format!(
+                "{origin}: {c}.{name} is not a parameter or input and cannot be set"
+            ));
+        }
+        instances[i]
+            .set_real(&[var.value_reference], &[v])
+            .map_err(|e| e.to_string())?;
+    }
+    // Inputs start from the outputs they are connected to.
+    let mut last: Vec<f64> = Vec::new();
+    for _ in 0..50 {
+        let mut now = Vec::with_capacity(connections.len());
+        for c in &connections {
+            let mut v = [0.0];
+            instances[c.from]
+                .get_real(&[c.from_vr], &mut v)
+                .map_err(|e| e.to_string())?;
+            instances[c.to]
+                .set_real(&[c.to_vr], &v)
+                .map_err(|e| e.to_string())?;
+            now.push(v[0]);
+        }
+        if now == last {
+            break;
+        }
+        last = now;
+    }
+    for inst in &mut instances {
+        inst.exit_initialization_mode().map_err(|e| e.to_string())?;
+    }
+    let participants = instances
+        .into_iter()
+        .zip(&fmus)
+        .map(|(inst, fmu)| {
+            Box::new(FmuParticipant::new(fmu, inst)) as Box<dyn crate::coupling::Participant>
+        })
+        .collect();
+    Ok(Wired {
+        system: System {
+            participants,
+            connections,
+        },
+        outputs,
+        fmus,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SSD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssc="c" xmlns:ssd="d" xmlns:ssv="v" xmlns:tbi="t" version="1.0" name="s">
+  <ssd:System name="s">
+    <ssd:Elements>
+      <ssd:Component name="a" source="resources/a.fmu">
+        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" name="p"><ssv:Parameters>
+          <ssv:Parameter name="k"><ssv:Real value="2.5"/></ssv:Parameter>
+        </ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>
+      </ssd:Component>
+      <ssd:Component name="b" source="resources/b.fmu"/>
+    </ssd:Elements>
+    <ssd:Connections>
+      <ssd:Connection startElement="a" startConnector="y" endElement="b" endConnector="u"/>
+    </ssd:Connections>
+    <ssd:Annotations><ssc:Annotation type="org.tbi.coupling"><tbi:Coupling step_size="0.01" scheme="jacobi" rtol="1e-9"/></ssc:Annotation></ssd:Annotations>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="2.5"/>
+</ssd:SystemStructureDescription>"#;
+
+    #[test]
+    fn reads_components_connections_parameters_experiment_and_coupling() {
+        let s = parse_ssd(SSD, "t.ssd").unwrap();
+        assert_eq!(s.components.len(), 2);
+        assert_eq!(s.components[0].parameters, vec![("k".into(), "2.5".into())]);
+        assert_eq!(s.connections[0].end_connector, "u");
+        assert_eq!((s.start_time, s.stop_time), (Some(0.0), Some(2.5)));
+        assert_eq!(s.coupling[0], ("step_size".into(), "0.01".into()));
+        let open = OpenSystem {
+            ssd: s,
+            base: PathBuf::new(),
+            _unpacked: None,
+            origin: "t.ssp".into(),
+        };
+        let (cfg, step) = open.coupling().unwrap();
+        assert_eq!(step, Some(0.01));
+        assert_eq!(cfg.scheme.as_str(), "jacobi");
+        assert_eq!(cfg.rtol, 1e-9);
+    }
+
+    #[test]
+    fn malformed_and_duplicate_elements_are_refused_with_the_line() {
+        let e = parse_ssd("<a><b></a>", "x.ssd").unwrap_err();
+        assert!(e.starts_with("x.ssd:1: malformed XML"), "{e}");
+        let twice = SSD.replace("name=\"b\"", "name=\"a\"");
+        let e = parse_ssd(&twice, "x.ssd").unwrap_err();
+        assert!(
+            e.contains("x.ssd:10: component \"a\" is defined twice"),
+            "{e}"
+        );
+    }
+}

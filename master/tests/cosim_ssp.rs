@@ -1,0 +1,284 @@
+//! `tbi cosim SYSTEM.ssp`, the master standalone:
+//!
+//! * on the exported Yang–Yau system it gives the histories of `tbi run --solver cosim`
+//!   (which runs the same SSP), to round-off;
+//! * a parameter binding in the SSD (the train's `speed`) gives the result of the scenario
+//!   at that speed;
+//! * bad systems are refused with a message naming the file and the element.
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use tbi_tests::{run, run_ok, scratch, tbi_command, text, Table};
+
+fn yang_yau() -> PathBuf {
+    tbi_tests::repo_path("master/tests/data/yang-yau.toml")
+}
+
+/// Export the Yang–Yau scenario into `dir/fmus`; returns the SSP.
+fn export(dir: &Path) -> PathBuf {
+    run_ok(
+        tbi_command()
+            .arg("export")
+            .arg(yang_yau())
+            .arg("--out")
+            .arg(dir.join("fmus")),
+    );
+    dir.join("fmus/system.ssp")
+}
+
+/// A copy of `ssp` whose SystemStructure.ssd is `edit(ssd)`.
+fn edited(ssp: &Path, to: &Path, edit: impl Fn(&str) -> String) -> PathBuf {
+    let mut zin = zip::ZipArchive::new(std::fs::File::open(ssp).unwrap()).unwrap();
+    let mut zout = zip::ZipWriter::new(std::fs::File::create(to).unwrap());
+    for i in 0..zin.len() {
+        let mut e = zin.by_index(i).unwrap();
+        let name = e.name().unwrap().into_owned();
+        let mut bytes = Vec::new();
+        e.read_to_end(&mut bytes).unwrap();
+        if name == "SystemStructure.ssd" {
+            bytes = edit(&String::from_utf8(bytes).unwrap()).into_bytes();
+        }
+        zout.start_file(name, zip::write::SimpleFileOptions::default())
+            .unwrap();
+        zout.write_all(&bytes).unwrap();
+    }
+    zout.finish().unwrap();
+    to.to_path_buf()
+}
+
+fn cosim(ssp: &Path, out: &Path, extra: &[&str]) -> Table {
+    run_ok(
+        tbi_command()
+            .arg("cosim")
+            .arg(ssp)
+            .args(["--quiet", "--record", "bridge.probe[1].z", "--output"])
+            .arg(out)
+            .args(extra),
+    );
+    Table::read(out)
+}
+
+/// Largest |a − b| over the rows both have, relative to the largest |b|.
+fn worst(a: &[f64], b: &[f64]) -> f64 {
+    let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+#[test]
+fn cosim_on_the_exported_system_equals_tbi_run() {
+    let dir = scratch("cosim-equals-run");
+    let ssp = export(&dir);
+    let table = cosim(&ssp, &dir.join("out.csv"), &[]);
+    run_ok(
+        tbi_command()
+            .arg("run")
+            .arg(yang_yau())
+            .args(["--solver", "cosim", "--quiet", "--out"])
+            .arg(dir.join("run")),
+    );
+    let history = Table::read(&dir.join("run/history.csv"));
+    assert_eq!(table.rows.len(), history.rows.len());
+    for (ours, theirs) in [
+        ("train.ws[1].F_z", "ws1.vertical_force_n"),
+        ("bridge.probe[1].z", "mid.vertical_displacement_m"),
+        ("time", "time_s"),
+    ] {
+        let d = worst(&table.column(ours), &history.column(theirs));
+        assert!(d <= 1e-12, "{ours} vs {theirs}: {d:e}");
+    }
+    let json = tbi_tests::read_json(&dir.join("out.csv.json"));
+    assert_eq!(json["steps"], 3800);
+    assert_eq!(json["scheme"], "implicit");
+    assert_eq!(json["accepted_unconverged"], 0);
+}
+
+#[test]
+fn a_parameter_binding_sets_the_train_speed() {
+    let dir = scratch("cosim-binding");
+    let ssp = export(&dir);
+    let v = 80.0 / 3.6;
+    let binding = format!(
+        r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">
+        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>
+          <ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="speed">
+            <ssv:Parameters><ssv:Parameter name="speed"><ssv:Real value="{v:e}"/></ssv:Parameter></ssv:Parameters>
+          </ssv:ParameterSet>
+        </ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#
+    );
+    let bound = edited(&ssp, &dir.join("bound.ssp"), |ssd| {
+        ssd.replace(
+            r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">"#,
+            &binding,
+        )
+    });
+    let table = cosim(&bound, &dir.join("out.csv"), &[]);
+    run_ok(
+        tbi_command()
+            .arg("run")
+            .arg(yang_yau())
+            .args(["--speed-kmh", "80", "--solver", "cosim", "--quiet", "--out"])
+            .arg(dir.join("run80")),
+    );
+    let history = Table::read(&dir.join("run80/history.csv"));
+    // the SSD's stop time is the 100 km/h run's: compare the rows both have
+    let n = table.rows.len().min(history.rows.len());
+    let ours = &table.column("train.ws[1].F_z")[..n];
+    let theirs = &history.column("ws1.vertical_force_n")[..n];
+    let d = worst(ours, theirs);
+    assert!(d <= 1e-12, "F_z at 80 km/h: {d:e}");
+    let x = table.column("train.ws[1].vx");
+    assert!((x[1] - v).abs() <= 1e-12 * v, "speed {}", x[1]);
+}
+
+#[test]
+fn bad_systems_are_refused_naming_the_file_and_element() {
+    let dir = scratch("cosim-bad");
+    let ssp = export(&dir);
+    let cases: [(&str, &str, &str, &str); 6] = [
+        (
+            "missing-fmu",
+            "resources/train.fmu",
+            "resources/nothere.fmu",
+            "nothere.fmu",
+        ),
+        (
+            "unknown-variable",
+            r#"endConnector="ws[1].F_z""#,
+            r#"endConnector="ws[1].F_q""#,
+            "has no variable \"ws[1].F_q\"",
+        ),
+        (
+            "output-to-output",
+            r#"startElement="train" startConnector="ws[1].x" endElement="bridge" endConnector="ws[1].x""#,
+            r#"startElement="train" startConnector="ws[1].x" endElement="bridge" endConnector="ws[1].y""#,
+            "the end is not an input",
+        ),
+        (
+            "unknown-component",
+            r#"endElement="bridge" endConnector="ws[1].vx""#,
+            r#"endElement="deck" endConnector="ws[1].vx""#,
+            "unknown component \"deck\"",
+        ),
+        (
+            "malformed",
+            "</ssd:Connections>",
+            "</ssd:Connection>",
+            "malformed XML",
+        ),
+        (
+            "unknown-parameter",
+            r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">"#,
+            r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu"><ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet xmlns:ssv="v" version="1.0" name="p"><ssv:Parameters><ssv:Parameter name="warp"><ssv:Real value="1"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#,
+            "has no variable \"warp\"",
+        ),
+    ];
+    for (label, from, to, needle) in cases {
+        let bad = edited(&ssp, &dir.join(format!("{label}.ssp")), |ssd| {
+            assert!(ssd.contains(from), "{label}: {from} not in the SSD");
+            ssd.replacen(from, to, 1)
+        });
+        let out = run(tbi_command()
+            .arg("cosim")
+            .arg(&bad)
+            .args(["--quiet", "--output"])
+            .arg(dir.join(format!("{label}.csv"))));
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{label}: {err}");
+        assert!(
+            err.contains(&format!("{label}.ssp")) && err.contains(needle),
+            "{label}: expected {needle:?} in: {err}"
+        );
+        assert!(
+            !dir.join(format!("{label}.csv")).exists(),
+            "{label}: a result was written"
+        );
+    }
+}
+
+/// `bytes` of a zip with `entry` replaced by `edit(entry)`.
+fn rezip(bytes: &[u8], entry: &str, edit: impl Fn(&str) -> String) -> Vec<u8> {
+    let mut zin = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    let mut out = std::io::Cursor::new(Vec::new());
+    let mut zout = zip::ZipWriter::new(&mut out);
+    for i in 0..zin.len() {
+        let mut e = zin.by_index(i).unwrap();
+        let name = e.name().unwrap().into_owned();
+        let mut b = Vec::new();
+        e.read_to_end(&mut b).unwrap();
+        if name == entry {
+            b = edit(&String::from_utf8(b).unwrap()).into_bytes();
+        }
+        if name.ends_with('/') {
+            continue;
+        }
+        zout.start_file(name, zip::write::SimpleFileOptions::default())
+            .unwrap();
+        zout.write_all(&b).unwrap();
+    }
+    zout.finish().unwrap();
+    out.into_inner()
+}
+
+#[test]
+fn the_implicit_scheme_refuses_an_fmu_that_cannot_roll_back() {
+    let dir = scratch("cosim-no-rollback");
+    let ssp = export(&dir);
+    let bytes = std::fs::read(&ssp).unwrap();
+    // rebuild the SSP with a train.fmu whose description denies FMU state
+    let mut zin = zip::ZipArchive::new(std::io::Cursor::new(&bytes)).unwrap();
+    let mut train = Vec::new();
+    zin.by_name("resources/train.fmu")
+        .unwrap()
+        .read_to_end(&mut train)
+        .unwrap();
+    let train = rezip(&train, "modelDescription.xml", |md| {
+        md.replace(
+            "canGetAndSetFMUstate=\"true\"",
+            "canGetAndSetFMUstate=\"false\"",
+        )
+        .replace(
+            "canSerializeFMUstate=\"true\"",
+            "canSerializeFMUstate=\"false\"",
+        )
+    });
+    let bad = dir.join("norollback.ssp");
+    let mut zout = zip::ZipWriter::new(std::fs::File::create(&bad).unwrap());
+    for i in 0..zin.len() {
+        let mut e = zin.by_index(i).unwrap();
+        let name = e.name().unwrap().into_owned();
+        let mut b = Vec::new();
+        e.read_to_end(&mut b).unwrap();
+        if name == "resources/train.fmu" {
+            b = train.clone();
+        }
+        zout.start_file(name, zip::write::SimpleFileOptions::default())
+            .unwrap();
+        zout.write_all(&b).unwrap();
+    }
+    zout.finish().unwrap();
+    let out = run(tbi_command()
+        .arg("cosim")
+        .arg(&bad)
+        .args(["--quiet", "--output"])
+        .arg(dir.join("o.csv")));
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("norollback.ssp")
+            && err.contains("\"train\"")
+            && err.contains("cannot roll back"),
+        "{err}"
+    );
+    // an explicit scheme runs it
+    run_ok(
+        tbi_command()
+            .arg("cosim")
+            .arg(&bad)
+            .args(["--quiet", "--scheme", "jacobi", "--output"])
+            .arg(dir.join("j.csv")),
+    );
+}
