@@ -328,19 +328,22 @@ fn nan_output() {
 #[test]
 fn unpacked_files_are_removed() {
     // every refusal above happens after unpacking; the temp dir must not outlive the run
-    let before = tbi_temp_dirs();
+    // (a private TMPDIR, so that the other tests' runs in parallel are not counted)
     let fmu = build_fmu(&Variant::new("Cleanup").define("-DFAIL_AT=0.1"));
-    refused(&fmu);
-    let after = tbi_temp_dirs();
-    let new: Vec<_> = after.difference(&before).collect();
-    assert!(new.is_empty(), "left behind: {new:?}");
-}
-
-fn tbi_temp_dirs() -> std::collections::HashSet<PathBuf> {
-    std::fs::read_dir(std::env::temp_dir())
+    let dir = fmu.parent().unwrap();
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let run = tbi_tests::run(
+        tbi_tests::tbi_command()
+            .args(["simulate", "Cleanup.fmu", "--output", "out.csv", "--quiet"])
+            .current_dir(dir)
+            .env("TMPDIR", &tmp),
+    );
+    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    let left: Vec<_> = std::fs::read_dir(&tmp)
         .unwrap()
-        .filter_map(Result::ok)
-        .filter(|e| e.file_name().to_string_lossy().starts_with("tbi-fmu-"))
+        .flatten()
         .map(|e| e.path())
-        .collect()
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
 }
