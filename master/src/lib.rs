@@ -19,3 +19,4 @@ pub mod ssp;
 pub mod summary;
 pub mod suspension;
 pub mod sweep;
+pub mod validate;

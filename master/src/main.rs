@@ -34,6 +34,8 @@ enum Command {
     Simulate(tbi::simulate::SimulateArgs),
     /// Run an SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the coupling algorithms.
     Cosim(tbi::cosim_cmd::CosimArgs),
+    /// Run a scenario both ways (FMUs and monolithic) and report their differences.
+    Validate(tbi::validate::ValidateArgs),
 }
 
 #[derive(Subcommand)]
@@ -52,12 +54,14 @@ fn main() -> ExitCode {
             | Command::Bench(_)
             | Command::Simulate(_)
             | Command::Cosim(_)
+            | Command::Validate(_)
     ) {
         tbi::interrupt::install();
     }
     let result = match cli.command {
         Command::Simulate(args) => tbi::simulate::main(args),
         Command::Cosim(args) => tbi::cosim_cmd::main(args),
+        Command::Validate(args) => tbi::validate::main(args),
         Command::Run(args) => tbi::run::main(args),
         Command::Export(args) => tbi::export::main(args),
         Command::Modes(args) => tbi::modes::main(args),

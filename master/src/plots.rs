@@ -129,9 +129,10 @@ where
 }
 
 /// A panel: title, y-axis label and named series.
-type Panel<'a> = (&'a str, &'a str, Vec<(String, Vec<f64>)>);
+pub(crate) type Panel<'a> = (&'a str, &'a str, Vec<(String, Vec<f64>)>);
 
-fn figure(path: &Path, panels: &[Panel<'_>], t: &[f64]) -> Result<(), String> {
+/// A figure of panels stacked vertically, against the time `t`.
+pub(crate) fn figure(path: &Path, panels: &[Panel<'_>], t: &[f64]) -> Result<(), String> {
     let height = 320 * panels.len() as u32;
     let root = SVGBackend::new(path, (1000, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| e.to_string())?;

@@ -104,6 +104,31 @@ impl Case {
         assert_eq!(self.files(), before, "tbi {args:?} wrote files: {err}");
     }
 
+    /// Start `tbi ARGS`, send SIGTERM once `file` (below `work/`) has `bytes` bytes, and
+    /// return the exit code and standard error.
+    fn interrupted(&self, args: &[&str], file: &str, bytes: u64) -> (Option<i32>, String) {
+        let child = self
+            .command(args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let path = self.work().join(file);
+        let t0 = std::time::Instant::now();
+        while std::fs::metadata(&path).map_or(0, |m| m.len()) < bytes {
+            assert!(t0.elapsed().as_secs() < 120, "the run did not start");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        // the shell's own `kill`, so no other program is needed
+        let kill = Command::new("sh")
+            .args(["-c", &format!("kill -TERM {}", child.id())])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+        let out = child.wait_with_output().unwrap();
+        (out.status.code(), text(&out.stderr))
+    }
+
     /// No lock file anywhere and an empty TMPDIR.
     fn assert_clean(&self) {
         let files = self.files();
@@ -285,34 +310,20 @@ fn a_signal_ends_the_run_with_a_failed_summary_and_no_leftovers() {
             ("dt_s = 0.0005", "dt_s = 0.0001"),
             ("free_vibration_s = 0.2", "free_vibration_s = 25.0"),
         ]);
-        let child = c
-            .command(&[
+        let (code, err) = c.interrupted(
+            &[
                 "run",
                 s.to_str().unwrap(),
                 "--solver",
                 solver,
                 "--out",
                 "out",
-            ])
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
+            ],
+            "out/history.csv",
+            10_000,
+        );
         let history = c.work().join("out/history.csv");
-        let t0 = std::time::Instant::now();
-        while std::fs::metadata(&history).map_or(0, |m| m.len()) < 10_000 {
-            assert!(t0.elapsed().as_secs() < 120, "the run did not start");
-            std::thread::sleep(std::time::Duration::from_millis(20));
-        }
-        // the shell's own `kill`, so no other program is needed
-        let kill = Command::new("sh")
-            .args(["-c", &format!("kill -TERM {}", child.id())])
-            .status()
-            .unwrap();
-        assert!(kill.success());
-        let out = child.wait_with_output().unwrap();
-        let err = text(&out.stderr);
-        assert_eq!(out.status.code(), Some(130), "{solver}: {err}");
+        assert_eq!(code, Some(130), "{solver}: {err}");
         assert!(err.contains("interrupted by a signal"), "{solver}: {err}");
         let summary = tbi_tests::read_summary(&c.work().join("out"));
         assert_eq!(summary["status"], "failed", "{solver}");
@@ -391,8 +402,8 @@ fn a_signal_ends_tbi_simulate_with_the_rows_so_far_kept() {
     let s = c.scenario(&[]);
     let r = c.tbi(&["export", s.to_str().unwrap(), "--out", "fmus"]);
     assert!(r.status.success(), "{}", text(&r.stderr));
-    let child = c
-        .command(&[
+    let (code, err) = c.interrupted(
+        &[
             "simulate",
             "fmus/bridge.fmu",
             "--stop-time",
@@ -402,25 +413,12 @@ fn a_signal_ends_tbi_simulate_with_the_rows_so_far_kept() {
             "--output",
             "out.csv",
             "--quiet",
-        ])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+        ],
+        "out.csv.partial",
+        100_000,
+    );
     let partial = c.work().join("out.csv.partial");
-    let t0 = std::time::Instant::now();
-    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 100_000 {
-        assert!(t0.elapsed().as_secs() < 120, "the run did not start");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    let kill = Command::new("sh")
-        .args(["-c", &format!("kill -TERM {}", child.id())])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let out = child.wait_with_output().unwrap();
-    let err = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert_eq!(code, Some(130), "{err}");
     assert!(
         err.contains("interrupted by a signal") && err.contains("out.csv.partial"),
         "{err}"

@@ -1,0 +1,231 @@
+//! `tbi validate [SCENARIO.toml]`: run a scenario both ways — co-simulation of the FMUs and
+//! the monolithic solver — and report how far apart they are.
+//!
+//! For every column of `history.csv` the difference is `max_t |co − mono| / max_t |mono|`
+//! (the monolithic run is the reference; a column that is zero there and not in the
+//! co-simulation counts as infinitely different). Columns are grouped into the deck (the
+//! probes), the car bodies (`veh…`) and the wheelsets (`ws…`); for each group the worst
+//! column is printed with the time of its largest difference. `validation.json` holds the
+//! same, and `validation_worst.svg` overlays the worst column of both runs with their
+//! difference. With `--tolerance`, a worst difference above it makes the command fail.
+
+use crate::coupling::{AccelerationKind, SchemeKind};
+use crate::model::Limits;
+use crate::plots::History;
+use crate::scenario::SolverKind;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// Command-line arguments of `tbi validate`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ValidateArgs {
+    /// Scenario file (TOML). Default: the embedded Tsing Ma case.
+    pub scenario: Option<PathBuf>,
+    /// Coupling scheme of the co-simulation (default: the scenario's).
+    #[arg(long)]
+    pub scheme: Option<String>,
+    /// Acceleration of the implicit scheme (default: the scenario's).
+    #[arg(long)]
+    pub acceleration: Option<String>,
+    /// Fail when the worst relative difference is above this.
+    #[arg(long, allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
+    /// Output folder (default `tbi-out/<name>-validate`): `monolithic/`, `cosim/`,
+    /// `validation.json`, `validation_worst.svg`.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The difference of one column.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ColumnDifference {
+    pub column: String,
+    /// `max |co − mono| / max |mono|`.
+    pub relative: f64,
+    /// Time of the largest `|co − mono|`, s.
+    pub time_s: f64,
+}
+
+/// Differences of every column (but time) of two histories with the same columns and rows.
+pub fn differences(mono: &History, co: &History) -> Result<Vec<ColumnDifference>, String> {
+    if mono.names != co.names {
+        return Err("the two histories have different columns".into());
+    }
+    let t = mono.column("time_s").ok_or("history without time_s")?;
+    let mut out = Vec::new();
+    for (j, name) in mono.names.iter().enumerate() {
+        if name == "time_s" {
+            continue;
+        }
+        let (a, b) = (&mono.columns[j], &co.columns[j]);
+        if a.len() != b.len() {
+            return Err(format!("{name}: {} rows against {}", a.len(), b.len()));
+        }
+        let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let (mut worst, mut at) = (0.0_f64, t.first().copied().unwrap_or(0.0));
+        for (k, (x, y)) in a.iter().zip(b).enumerate() {
+            let d = (x - y).abs();
+            if d.is_nan() || d > worst {
+                worst = if d.is_nan() { f64::INFINITY } else { d };
+                at = t[k];
+            }
+        }
+        let relative = if scale > 0.0 {
+            worst / scale
+        } else if worst == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+        out.push(ColumnDifference {
+            column: name.clone(),
+            relative,
+            time_s: at,
+        });
+    }
+    Ok(out)
+}
+
+fn group_of(column: &str, probes: &[String]) -> &'static str {
+    if probes.iter().any(|p| column.starts_with(&format!("{p}."))) {
+        "deck"
+    } else if column.starts_with("veh") {
+        "car bodies"
+    } else {
+        "wheelsets"
+    }
+}
+
+pub fn main(args: ValidateArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let mut s = crate::scenario::load(args.scenario.as_deref(), None, None)?;
+    if let Some(v) = &args.scheme {
+        s.coupling.scheme = SchemeKind::from_str(v).map_err(|e| format!("--scheme {v}: {e}"))?;
+    }
+    if let Some(v) = &args.acceleration {
+        s.coupling.acceleration =
+            AccelerationKind::from_str(v).map_err(|e| format!("--acceleration {v}: {e}"))?;
+    }
+    if let Some(t) = args.tolerance {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(format!("--tolerance {t}: must be a finite number ≥ 0").into());
+        }
+    }
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("tbi-out").join(format!("{}-validate", s.name)));
+    let limits = Limits::default();
+    let mut runs = Vec::new();
+    for solver in [SolverKind::Monolithic, SolverKind::Cosim] {
+        s.run.solver = solver;
+        let dir = out.join(solver.as_str());
+        crate::run::run_scenario(&s, &dir, !args.quiet, &limits)?;
+        runs.push(History::read(&dir.join("history.csv"))?);
+    }
+    let diffs = differences(&runs[0], &runs[1])?;
+    let probes: Vec<String> = s.probes.iter().map(|p| p.name.clone()).collect();
+    let mut groups: Vec<(&str, &ColumnDifference)> = Vec::new();
+    // The first of equal differences, in column order.
+    let largest = |it: &mut dyn Iterator<Item = &ColumnDifference>| -> Option<usize> {
+        let mut best: Option<&ColumnDifference> = None;
+        for d in it {
+            if best.is_none_or(|b| d.relative > b.relative) {
+                best = Some(d);
+            }
+        }
+        best.map(|b| {
+            diffs
+                .iter()
+                .position(|d| std::ptr::eq(d, b))
+                .expect("from diffs")
+        })
+    };
+    for g in ["deck", "car bodies", "wheelsets"] {
+        if let Some(i) = largest(&mut diffs.iter().filter(|d| group_of(&d.column, &probes) == g)) {
+            groups.push((g, &diffs[i]));
+        }
+    }
+    let worst =
+        &diffs[largest(&mut diffs.iter()).ok_or("the histories have no columns to compare")?];
+    println!(
+        "{}: co-simulation ({}, {}) against the monolithic solver",
+        s.name,
+        s.coupling.scheme.as_str(),
+        s.coupling.acceleration.as_str()
+    );
+    println!("| group | worst column | relative difference | at t (s) |\n|---|---|---:|---:|");
+    for (g, d) in &groups {
+        println!(
+            "| {g} | {} | {:.3e} | {:.4} |",
+            d.column, d.relative, d.time_s
+        );
+    }
+    let passed = args.tolerance.is_none_or(|t| worst.relative <= t);
+    let json = serde_json::json!({
+        "scenario": s.name,
+        "scheme": s.coupling.scheme.as_str(),
+        "acceleration": s.coupling.acceleration.as_str(),
+        "rtol": s.coupling.rtol,
+        "groups": groups.iter().map(|(g, d)| serde_json::json!({
+            "group": g, "column": d.column, "relative": d.relative, "time_s": d.time_s,
+        })).collect::<Vec<_>>(),
+        "worst": worst,
+        "tolerance": args.tolerance,
+        "passed": passed,
+    });
+    crate::outdir::write_atomically(
+        &out.join("validation.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    plot_worst(&out.join("validation_worst.svg"), &runs, &worst.column)?;
+    eprintln!(
+        "tbi: validation.json and validation_worst.svg in {}",
+        out.display()
+    );
+    if !passed {
+        return Err(format!(
+            "the worst difference, {:.3e} in {} at t = {} s, exceeds --tolerance {}",
+            worst.relative,
+            worst.column,
+            worst.time_s,
+            crate::model::num(args.tolerance.expect("checked"))
+        )
+        .into());
+    }
+    Ok(())
+}
+
+fn plot_worst(path: &Path, runs: &[History], column: &str) -> Result<(), String> {
+    let t = runs[0]
+        .column("time_s")
+        .ok_or("history without time_s")?
+        .to_vec();
+    let a = runs[0]
+        .column(column)
+        .ok_or("worst column missing")?
+        .to_vec();
+    let b = runs[1]
+        .column(column)
+        .ok_or("worst column missing")?
+        .to_vec();
+    let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| y - x).collect();
+    crate::plots::figure(
+        path,
+        &[
+            (
+                &format!("{column}: both solvers"),
+                "",
+                vec![("monolithic".into(), a), ("co-simulation".into(), b)],
+            ),
+            (
+                "co-simulation − monolithic",
+                "",
+                vec![("difference".into(), d)],
+            ),
+        ],
+        &t,
+    )
+}
