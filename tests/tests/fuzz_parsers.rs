@@ -1,10 +1,11 @@
 //! Every parser of user input, fed mutated inputs: zero panics. 30 000 cases per parser
-//! (150 000 in all) from a fixed seed, so a failure reproduces; inputs that once failed
+//! (180 000 in all) from a fixed seed, so a failure reproduces; inputs that once failed
 //! are kept in each test's corpus and checked on every run.
 //!
 //! Parsers: the scenario TOML (parse and every check, `Scenario::from_toml`), the track
 //! record CSV (`Record::parse`), the modes file as CSV (`ModeSet::parse_csv`) and JSON
-//! (serde + `ModeSet::validate`), and `modelDescription.xml` (`ModelDescription::parse`).
+//! (serde + `ModeSet::validate`), `modelDescription.xml` (`ModelDescription::parse`) and the
+//! SSP's `SystemStructure.ssd` (`ssp::parse_ssd`).
 
 use std::path::Path;
 use tbi::scenario::Scenario;
@@ -130,4 +131,14 @@ fn model_description_xml() {
         accepted > 100,
         "only {accepted} mutated descriptions were valid"
     );
+}
+
+#[test]
+fn system_structure_ssd() {
+    let seed =
+        std::fs::read_to_string(tbi_tests::repo_path("tests/golden/yang-yau-system.ssd")).unwrap();
+    let parse = |b: &[u8]| tbi::ssp::parse_ssd(&text(b), "fuzz.ssd").is_ok();
+    fuzz::corpus("ssd", &[b"<a/>", b"<ssd:Component name=\"x\"/>"], parse);
+    let accepted = fuzz::run("ssd", 0x55d0, &[seed.as_bytes()], CASES, parse);
+    assert!(accepted > 100, "only {accepted} mutated SSDs were valid");
 }
