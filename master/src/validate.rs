@@ -127,29 +127,21 @@ pub fn main(args: ValidateArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     let diffs = differences(&runs[0], &runs[1])?;
     let probes: Vec<String> = s.probes.iter().map(|p| p.name.clone()).collect();
-    let mut groups: Vec<(&str, &ColumnDifference)> = Vec::new();
-    // The first of equal differences, in column order.
-    let largest = |it: &mut dyn Iterator<Item = &ColumnDifference>| -> Option<usize> {
-        let mut best: Option<&ColumnDifference> = None;
-        for d in it {
-            if best.is_none_or(|b| d.relative > b.relative) {
-                best = Some(d);
-            }
-        }
-        best.map(|b| {
-            diffs
-                .iter()
-                .position(|d| std::ptr::eq(d, b))
-                .expect("from diffs")
-        })
+    // The largest difference of the columns `keep` selects; the first of equal ones.
+    let largest = |keep: &dyn Fn(&ColumnDifference) -> bool| {
+        diffs
+            .iter()
+            .filter(|d| keep(d))
+            .fold(None, |best: Option<&ColumnDifference>, d| match best {
+                Some(b) if b.relative >= d.relative => Some(b),
+                _ => Some(d),
+            })
     };
-    for g in ["deck", "car bodies", "wheelsets"] {
-        if let Some(i) = largest(&mut diffs.iter().filter(|d| group_of(&d.column, &probes) == g)) {
-            groups.push((g, &diffs[i]));
-        }
-    }
-    let worst =
-        &diffs[largest(&mut diffs.iter()).ok_or("the histories have no columns to compare")?];
+    let groups: Vec<(&str, &ColumnDifference)> = ["deck", "car bodies", "wheelsets"]
+        .into_iter()
+        .filter_map(|g| largest(&|d| group_of(&d.column, &probes) == g).map(|w| (g, w)))
+        .collect();
+    let worst = largest(&|_| true).ok_or("the histories have no columns to compare")?;
     println!(
         "{}: co-simulation ({}, {}) against the monolithic solver",
         s.name,

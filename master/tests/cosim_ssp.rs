@@ -6,8 +6,8 @@
 //!   at that speed;
 //! * bad systems are refused with a message naming the file and the element.
 
-use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use tbi_tests::fmu::{rewrite_zip, rewrite_zip_file};
 use tbi_tests::{run, run_ok, scratch, tbi_command, text, Table};
 
 fn yang_yau() -> PathBuf {
@@ -28,21 +28,13 @@ fn export(dir: &Path) -> PathBuf {
 
 /// A copy of `ssp` whose SystemStructure.ssd is `edit(ssd)`.
 fn edited(ssp: &Path, to: &Path, edit: impl Fn(&str) -> String) -> PathBuf {
-    let mut zin = zip::ZipArchive::new(std::fs::File::open(ssp).unwrap()).unwrap();
-    let mut zout = zip::ZipWriter::new(std::fs::File::create(to).unwrap());
-    for i in 0..zin.len() {
-        let mut e = zin.by_index(i).unwrap();
-        let name = e.name().unwrap().into_owned();
-        let mut bytes = Vec::new();
-        e.read_to_end(&mut bytes).unwrap();
+    rewrite_zip_file(ssp, to, |name, bytes| {
         if name == "SystemStructure.ssd" {
-            bytes = edit(&String::from_utf8(bytes).unwrap()).into_bytes();
+            edit(&String::from_utf8(bytes).unwrap()).into_bytes()
+        } else {
+            bytes
         }
-        zout.start_file(name, zip::write::SimpleFileOptions::default())
-            .unwrap();
-        zout.write_all(&bytes).unwrap();
-    }
-    zout.finish().unwrap();
+    });
     to.to_path_buf()
 }
 
@@ -199,67 +191,33 @@ fn bad_systems_are_refused_naming_the_file_and_element() {
     }
 }
 
-/// `bytes` of a zip with `entry` replaced by `edit(entry)`.
-fn rezip(bytes: &[u8], entry: &str, edit: impl Fn(&str) -> String) -> Vec<u8> {
-    let mut zin = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
-    let mut out = std::io::Cursor::new(Vec::new());
-    let mut zout = zip::ZipWriter::new(&mut out);
-    for i in 0..zin.len() {
-        let mut e = zin.by_index(i).unwrap();
-        let name = e.name().unwrap().into_owned();
-        let mut b = Vec::new();
-        e.read_to_end(&mut b).unwrap();
-        if name == entry {
-            b = edit(&String::from_utf8(b).unwrap()).into_bytes();
-        }
-        if name.ends_with('/') {
-            continue;
-        }
-        zout.start_file(name, zip::write::SimpleFileOptions::default())
-            .unwrap();
-        zout.write_all(&b).unwrap();
-    }
-    zout.finish().unwrap();
-    out.into_inner()
-}
-
 #[test]
 fn the_implicit_scheme_refuses_an_fmu_that_cannot_roll_back() {
     let dir = scratch("cosim-no-rollback");
     let ssp = export(&dir);
-    let bytes = std::fs::read(&ssp).unwrap();
-    // rebuild the SSP with a train.fmu whose description denies FMU state
-    let mut zin = zip::ZipArchive::new(std::io::Cursor::new(&bytes)).unwrap();
-    let mut train = Vec::new();
-    zin.by_name("resources/train.fmu")
-        .unwrap()
-        .read_to_end(&mut train)
-        .unwrap();
-    let train = rezip(&train, "modelDescription.xml", |md| {
-        md.replace(
-            "canGetAndSetFMUstate=\"true\"",
-            "canGetAndSetFMUstate=\"false\"",
-        )
-        .replace(
-            "canSerializeFMUstate=\"true\"",
-            "canSerializeFMUstate=\"false\"",
-        )
-    });
+    // the SSP with a train.fmu whose description denies FMU state
     let bad = dir.join("norollback.ssp");
-    let mut zout = zip::ZipWriter::new(std::fs::File::create(&bad).unwrap());
-    for i in 0..zin.len() {
-        let mut e = zin.by_index(i).unwrap();
-        let name = e.name().unwrap().into_owned();
-        let mut b = Vec::new();
-        e.read_to_end(&mut b).unwrap();
-        if name == "resources/train.fmu" {
-            b = train.clone();
+    rewrite_zip_file(&ssp, &bad, |name, bytes| {
+        if name != "resources/train.fmu" {
+            return bytes;
         }
-        zout.start_file(name, zip::write::SimpleFileOptions::default())
-            .unwrap();
-        zout.write_all(&b).unwrap();
-    }
-    zout.finish().unwrap();
+        rewrite_zip(&bytes, |entry, md| {
+            if entry != "modelDescription.xml" {
+                return md;
+            }
+            String::from_utf8(md)
+                .unwrap()
+                .replace(
+                    "canGetAndSetFMUstate=\"true\"",
+                    "canGetAndSetFMUstate=\"false\"",
+                )
+                .replace(
+                    "canSerializeFMUstate=\"true\"",
+                    "canSerializeFMUstate=\"false\"",
+                )
+                .into_bytes()
+        })
+    });
     let out = run(tbi_command()
         .arg("cosim")
         .arg(&bad)

@@ -129,6 +129,12 @@ impl Case {
         (out.status.code(), text(&out.stderr))
     }
 
+    /// `tbi export` of `scenario` into `work/fmus`.
+    fn export(&self, scenario: &Path) {
+        let r = self.tbi(&["export", scenario.to_str().unwrap(), "--out", "fmus"]);
+        assert!(r.status.success(), "{}", text(&r.stderr));
+    }
+
     /// No lock file anywhere and an empty TMPDIR.
     fn assert_clean(&self) {
         let files = self.files();
@@ -361,31 +367,16 @@ fn stale_temporary_folders_of_dead_processes_are_removed() {
 fn a_truncated_shared_object_is_refused_before_dlopen() {
     let c = Case::new("elf");
     let s = c.scenario(&[]);
-    let r = c.tbi(&["export", s.to_str().unwrap(), "--out", "fmus"]);
-    assert!(r.status.success(), "{}", text(&r.stderr));
+    c.export(&s);
     // rewrite bridge.fmu with its shared object cut in half
     let fmu = c.work().join("fmus/bridge.fmu");
-    let mut zin = zip::ZipArchive::new(std::fs::File::open(&fmu).unwrap()).unwrap();
     let cut = c.work().join("cut.fmu");
-    let mut zout = zip::ZipWriter::new(std::fs::File::create(&cut).unwrap());
-    for i in 0..zin.len() {
-        let mut e = zin.by_index(i).unwrap();
-        let name = e.name().unwrap().into_owned();
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut e, &mut bytes).unwrap();
+    tbi_tests::fmu::rewrite_zip_file(&fmu, &cut, |name, mut bytes| {
         if name.ends_with(".so") {
             bytes.truncate(bytes.len() / 2);
         }
-        if e.is_dir() {
-            zout.add_directory(name, zip::write::SimpleFileOptions::default())
-                .unwrap();
-        } else {
-            zout.start_file(name, zip::write::SimpleFileOptions::default())
-                .unwrap();
-            std::io::Write::write_all(&mut zout, &bytes).unwrap();
-        }
-    }
-    zout.finish().unwrap();
+        bytes
+    });
     let r = c.tbi(&["simulate", cut.to_str().unwrap(), "--output", "out.csv"]);
     let err = text(&r.stderr);
     assert_eq!(r.status.code(), Some(1), "{err}");
@@ -400,8 +391,7 @@ fn a_truncated_shared_object_is_refused_before_dlopen() {
 fn a_signal_ends_tbi_simulate_with_the_rows_so_far_kept() {
     let c = Case::new("simulate-signal");
     let s = c.scenario(&[]);
-    let r = c.tbi(&["export", s.to_str().unwrap(), "--out", "fmus"]);
-    assert!(r.status.success(), "{}", text(&r.stderr));
+    c.export(&s);
     let (code, err) = c.interrupted(
         &[
             "simulate",
@@ -455,8 +445,7 @@ fn a_full_disk_is_reported_with_the_file_name() {
 fn a_negative_step_size_reaches_the_runner_check() {
     let c = Case::new("negative-step");
     let s = c.scenario(&[]);
-    let r = c.tbi(&["export", s.to_str().unwrap(), "--out", "fmus"]);
-    assert!(r.status.success(), "{}", text(&r.stderr));
+    c.export(&s);
     let before = c.files();
     let r = c.tbi(&["simulate", "fmus/bridge.fmu", "--step-size", "-1"]);
     let err = text(&r.stderr);

@@ -108,3 +108,33 @@ pub fn unpack(fmu: &Path, into: &Path) -> Unpacked {
         md,
     }
 }
+
+/// A zip (an FMU or an SSP) with every file entry passed through `edit(name, bytes)`;
+/// directory entries are kept. For tests that damage or modify an exported archive.
+pub fn rewrite_zip(bytes: &[u8], edit: impl Fn(&str, Vec<u8>) -> Vec<u8>) -> Vec<u8> {
+    use std::io::{Read, Write};
+    let mut zin = zip::ZipArchive::new(std::io::Cursor::new(bytes)).expect("a zip archive");
+    let mut zout = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default();
+    for i in 0..zin.len() {
+        let mut e = zin.by_index(i).expect("entry");
+        let name = e.name().expect("entry name").into_owned();
+        if e.is_dir() {
+            zout.add_directory(name, options).expect("add directory");
+            continue;
+        }
+        let mut b = Vec::new();
+        e.read_to_end(&mut b).expect("read entry");
+        let b = edit(&name, b);
+        zout.start_file(name, options).expect("start entry");
+        zout.write_all(&b).expect("write entry");
+    }
+    zout.finish().expect("finish zip").into_inner()
+}
+
+/// [`rewrite_zip`] from the file `from` to the file `to`.
+pub fn rewrite_zip_file(from: &Path, to: &Path, edit: impl Fn(&str, Vec<u8>) -> Vec<u8>) {
+    let bytes = std::fs::read(from).unwrap_or_else(|e| panic!("{}: {e}", from.display()));
+    std::fs::write(to, rewrite_zip(&bytes, edit))
+        .unwrap_or_else(|e| panic!("{}: {e}", to.display()));
+}
