@@ -178,7 +178,7 @@ fn invalid_attribute_value() {
         Variant::new("BadCausality").replace("causality=\"input\"", "causality=\"inptu\"");
     let e = refused(&build_fmu_unchecked(&variant));
     assert!(
-        e.contains("BadCausality.fmu: modelDescription.xml: <ScalarVariable> 5 \"F\": causality \"inptu\" is not one of"),
+        e.contains("BadCausality.fmu: modelDescription.xml: line 43: <ScalarVariable> 5 \"F\": causality \"inptu\" is not one of"),
         "{e}"
     );
 }

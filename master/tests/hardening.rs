@@ -456,3 +456,36 @@ fn a_negative_step_size_reaches_the_runner_check() {
     );
     assert_eq!(c.files(), before, "{err}");
 }
+
+#[test]
+fn export_refuses_values_whose_resources_would_not_be_finite() {
+    // 1e-300 kg/m gives infinite frequencies: refused by name before anything is written,
+    // so no FMU that cannot instantiate is ever reported as exported
+    let c = Case::new("export");
+    let s = c.scenario(&[(
+        "mass_per_length_kg_m = 2303.0",
+        "mass_per_length_kg_m = 1e-300",
+    )]);
+    c.assert_refused(
+        &["export", s.to_str().unwrap(), "--out", "fmus"],
+        &["scenario.toml", "bridge.mass_per_length_kg_m", "1e-300"],
+    );
+    c.assert_clean();
+}
+
+#[test]
+fn a_run_whose_plots_fail_exits_non_zero_with_a_failed_summary() {
+    // a folder where the deck plot must go: the plot cannot be written
+    let c = Case::new("plots");
+    let s = c.scenario(&[]);
+    let out = c.work().join("out");
+    std::fs::create_dir_all(out.join("deck_vertical.svg").join("in-the-way")).unwrap();
+    let r = c.tbi(&["run", s.to_str().unwrap(), "--out", "out", "--quiet"]);
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(err.contains("deck_vertical.svg"), "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
+    assert!(summary.contains("\"status\": \"failed\""), "{summary}");
+    assert!(summary.contains("deck_vertical.svg"), "{summary}");
+    c.assert_clean();
+}

@@ -198,6 +198,7 @@ impl ModelDescriptionBuilder {
                 vendor_annotations: None,
                 model_variables: Vec::new(),
                 model_structure: ModelStructure::default(),
+                source_lines: SourceLines::default(),
             },
         }
     }

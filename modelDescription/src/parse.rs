@@ -3,15 +3,16 @@
 //! Reading happens in three passes over the text:
 //!
 //! 1. A streaming pass with the quick-xml reader checks that the text is well-formed XML
-//!    whose root is `<fmiModelDescription>`, reports syntax errors with line and column, and
-//!    cuts out the `<VendorAnnotations>` element verbatim (it may hold any XML).
+//!    whose root is `<fmiModelDescription>`, reports syntax errors with line and column,
+//!    cuts out the `<VendorAnnotations>` element verbatim (it may hold any XML), and
+//!    records the line of every element later messages name ([`SourceLines`]).
 //! 2. serde (quick-xml's deserializer) maps the document onto private "raw" structs whose
 //!    attributes are all optional strings. Elements and attributes the raw structs do not
 //!    name (vendor extensions, `<Annotations>` inside variables, FMI 2.0.x additions) are
 //!    skipped, so real-world descriptions never fail on them.
 //! 3. A conversion turns the raw structs into [`ModelDescription`], checking every value
 //!    (numbers, booleans, keywords, required attributes) and naming the element — for
-//!    variables the variable's name and 1-based index — in each error.
+//!    variables the variable's name and 1-based index — and its line in each error.
 //!
 //! Semantic rules (legal causality/variability combinations, ModelStructure
 //! completeness, …) are not checked here but by [`ModelDescription::validate`], so that
@@ -58,11 +59,12 @@ impl ModelDescription {
     /// from) is named in every error.
     pub fn parse(xml: &str, origin: &str) -> Result<Self, Error> {
         let xml = xml.strip_prefix('\u{feff}').unwrap_or(xml);
-        let vendor_annotations = scan(xml, origin)?;
+        let (vendor_annotations, lines) = scan(xml, origin)?;
         let raw: RawModelDescription = quick_xml::de::from_str(xml)
             .map_err(|e| Error::new(origin, format!("unexpected document structure: {e}")))?;
-        let mut md = convert(raw).map_err(|m| Error::new(origin, m))?;
+        let mut md = convert(raw, &lines).map_err(|m| Error::new(origin, m))?;
         md.vendor_annotations = vendor_annotations;
+        md.source_lines = lines;
         Ok(md)
     }
 }
@@ -83,14 +85,18 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-/// Pass 1: well-formedness, root element, verbatim `<VendorAnnotations>`.
-fn scan(xml: &str, origin: &str) -> Result<Option<String>, Error> {
+/// Pass 1: well-formedness, root element, verbatim `<VendorAnnotations>`, element lines.
+fn scan(xml: &str, origin: &str) -> Result<(Option<String>, SourceLines), Error> {
     let mut reader = Reader::from_str(xml);
     reader.config_mut().check_end_names = true;
     let mut depth = 0usize;
     let mut root_seen = false;
     let mut vendor: Option<String> = None;
     let mut vendor_start: Option<usize> = None;
+    let mut lines = SourceLines::default();
+    // names of the open elements below the root, and the line count up to `counted`
+    let mut open: Vec<String> = Vec::new();
+    let (mut line, mut counted) = (1usize, 0usize);
     loop {
         let before = reader.buffer_position() as usize;
         let event = reader.read_event().map_err(|e| {
@@ -104,6 +110,12 @@ fn scan(xml: &str, origin: &str) -> Result<Option<String>, Error> {
             Event::Start(ref e) | Event::Empty(ref e) => {
                 let name = e.name();
                 let name: &str = name.as_ref();
+                line += xml.as_bytes()[counted..before]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count();
+                counted = before;
+                record_line(&mut lines, depth, &open, name, line);
                 if depth == 0 {
                     if root_seen {
                         return Err(Error::new(origin, "more than one root element"));
@@ -130,11 +142,15 @@ fn scan(xml: &str, origin: &str) -> Result<Option<String>, Error> {
                     }
                 }
                 if matches!(event, Event::Start(_)) {
+                    if depth > 0 {
+                        open.push(name.to_owned());
+                    }
                     depth += 1;
                 }
             }
             Event::End(ref e) => {
                 depth = depth.saturating_sub(1);
+                open.pop();
                 let name = e.name();
                 let name: &str = name.as_ref();
                 if depth == 1 && name == "VendorAnnotations" {
@@ -160,7 +176,33 @@ fn scan(xml: &str, origin: &str) -> Result<Option<String>, Error> {
     if depth != 0 {
         return Err(Error::new(origin, "the document ends inside an element"));
     }
-    Ok(vendor)
+    Ok((vendor, lines))
+}
+
+/// Note the line of an element that messages name: `open` holds the names of the open
+/// elements between the root and this one.
+fn record_line(lines: &mut SourceLines, depth: usize, open: &[String], name: &str, line: usize) {
+    let parents: Vec<&str> = open.iter().map(String::as_str).collect();
+    match (depth, parents.as_slice(), name) {
+        (0, [], _) => lines.root = Some(line),
+        (1, [], "ModelExchange") => lines.model_exchange = Some(line),
+        (1, [], "CoSimulation") => lines.co_simulation = Some(line),
+        (1, [], "DefaultExperiment") => lines.default_experiment = Some(line),
+        (1, [], "ModelStructure") => lines.model_structure = Some(line),
+        (2, ["UnitDefinitions"], "Unit") => lines.units.push(line),
+        (2, ["TypeDefinitions"], "SimpleType") => lines.types.push(line),
+        (2, ["LogCategories"], "Category") => lines.categories.push(line),
+        (2, ["ModelVariables"], "ScalarVariable") => lines.variables.push(line),
+        (3, ["ModelStructure", "Outputs"], "Unknown") => lines.outputs.push(line),
+        (3, ["ModelStructure", "Derivatives"], "Unknown") => lines.derivatives.push(line),
+        (3, ["ModelStructure", "InitialUnknowns"], "Unknown") => lines.initial_unknowns.push(line),
+        _ => {}
+    }
+}
+
+/// The message of a conversion error about the element at `line`.
+fn at(line: Option<usize>) -> impl Fn(String) -> String {
+    move |m| format!("{}{m}", SourceLines::prefix(line))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -534,25 +576,27 @@ fn keyword<T: FromStr<Err = String>>(value: &str, element: &str) -> R<T> {
     value.parse::<T>().map_err(|e| format!("{element}: {e}"))
 }
 
-fn convert(raw: RawModelDescription) -> R<ModelDescription> {
+fn convert(raw: RawModelDescription, lines: &SourceLines) -> R<ModelDescription> {
     let root = "<fmiModelDescription>";
-    let fmi_version = required(raw.fmi_version, "fmiVersion", root)?;
+    let in_root = at(lines.root);
+    let fmi_version = required(raw.fmi_version, "fmiVersion", root).map_err(&in_root)?;
     if fmi_version != "2.0" {
-        return Err(format!(
+        return Err(in_root(format!(
             "fmiVersion=\"{fmi_version}\" is not supported (only FMI 2.0 descriptions are read)"
-        ));
+        )));
     }
-    let model_name = required(raw.model_name, "modelName", root)?;
-    let guid = required(raw.guid, "guid", root)?;
+    let model_name = required(raw.model_name, "modelName", root).map_err(&in_root)?;
+    let guid = required(raw.guid, "guid", root).map_err(&in_root)?;
     let variable_naming_convention = match raw.variable_naming_convention.as_deref() {
         None => VariableNamingConvention::Flat,
-        Some(v) => keyword(v, root)?,
+        Some(v) => keyword(v, root).map_err(&in_root)?,
     };
     let number_of_event_indicators = opt_u32(
         &raw.number_of_event_indicators,
         "numberOfEventIndicators",
         root,
-    )?;
+    )
+    .map_err(&in_root)?;
 
     let model_exchange = raw
         .model_exchange
@@ -594,7 +638,8 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
                 source_files: source_files(me.source_files, el)?,
             })
         })
-        .transpose()?;
+        .transpose()
+        .map_err(at(lines.model_exchange))?;
 
     let co_simulation = raw
         .co_simulation
@@ -652,7 +697,8 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
                 source_files: source_files(cs.source_files, el)?,
             })
         })
-        .transpose()?;
+        .transpose()
+        .map_err(at(lines.co_simulation))?;
 
     let unit_definitions = raw
         .unit_definitions
@@ -660,7 +706,7 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
         .unwrap_or_default()
         .into_iter()
         .enumerate()
-        .map(|(i, u)| convert_unit(u, i + 1))
+        .map(|(i, u)| convert_unit(u, i + 1).map_err(at(lines.units.get(i).copied())))
         .collect::<R<Vec<_>>>()?;
 
     let type_definitions = raw
@@ -669,7 +715,7 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
         .unwrap_or_default()
         .into_iter()
         .enumerate()
-        .map(|(i, t)| convert_simple_type(t, i + 1))
+        .map(|(i, t)| convert_simple_type(t, i + 1).map_err(at(lines.types.get(i).copied())))
         .collect::<R<Vec<_>>>()?;
 
     let log_categories = raw
@@ -680,7 +726,8 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
         .enumerate()
         .map(|(i, c)| {
             Ok(LogCategory {
-                name: required(c.name, "name", &format!("<Category> {}", i + 1))?,
+                name: required(c.name, "name", &format!("<Category> {}", i + 1))
+                    .map_err(at(lines.categories.get(i).copied()))?,
                 description: c.description,
             })
         })
@@ -697,25 +744,34 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
                 step_size: opt_f64(&d.step_size, "stepSize", el)?,
             })
         })
-        .transpose()?;
+        .transpose()
+        .map_err(at(lines.default_experiment))?;
 
     let raw_variables = raw
         .model_variables
-        .ok_or("the required element <ModelVariables> is missing")?
+        .ok_or_else(|| in_root("the required element <ModelVariables> is missing".into()))?
         .variables;
     let model_variables = raw_variables
         .into_iter()
         .enumerate()
-        .map(|(i, v)| convert_variable(v, i + 1))
+        .map(|(i, v)| convert_variable(v, i + 1).map_err(at(lines.variables.get(i).copied())))
         .collect::<R<Vec<_>>>()?;
 
     let raw_structure = raw
         .model_structure
-        .ok_or("the required element <ModelStructure> is missing")?;
+        .ok_or_else(|| in_root("the required element <ModelStructure> is missing".into()))?;
     let model_structure = ModelStructure {
-        outputs: convert_unknowns(raw_structure.outputs, "Outputs")?,
-        derivatives: convert_unknowns(raw_structure.derivatives, "Derivatives")?,
-        initial_unknowns: convert_unknowns(raw_structure.initial_unknowns, "InitialUnknowns")?,
+        outputs: convert_unknowns(raw_structure.outputs, "Outputs", &lines.outputs)?,
+        derivatives: convert_unknowns(
+            raw_structure.derivatives,
+            "Derivatives",
+            &lines.derivatives,
+        )?,
+        initial_unknowns: convert_unknowns(
+            raw_structure.initial_unknowns,
+            "InitialUnknowns",
+            &lines.initial_unknowns,
+        )?,
     };
 
     Ok(ModelDescription {
@@ -740,6 +796,7 @@ fn convert(raw: RawModelDescription) -> R<ModelDescription> {
         vendor_annotations: None,
         model_variables,
         model_structure,
+        source_lines: SourceLines::default(),
     })
 }
 
@@ -958,36 +1015,40 @@ fn parse_index_list(value: &str, attribute: &str, el: &str) -> R<Vec<u32>> {
         .collect()
 }
 
-fn convert_unknowns(raw: Option<RawUnknowns>, list: &str) -> R<Vec<Unknown>> {
+fn convert_unknowns(raw: Option<RawUnknowns>, list: &str, lines: &[usize]) -> R<Vec<Unknown>> {
     raw.map(|u| u.unknowns)
         .unwrap_or_default()
         .into_iter()
         .enumerate()
         .map(|(i, u)| {
             let el = format!("<ModelStructure>/<{list}>/<Unknown> {}", i + 1);
-            let index = required(u.index, "index", &el)?;
-            let index = parse_int(&index, "index", &el, "an unsigned integer")?;
-            let dependencies = u
-                .dependencies
-                .as_deref()
-                .map(|d| parse_index_list(d, "dependencies", &el))
-                .transpose()?;
-            let dependencies_kind = u
-                .dependencies_kind
-                .as_deref()
-                .map(|d| {
-                    d.split_ascii_whitespace()
-                        .map(|k| keyword::<DependencyKind>(k, &el))
-                        .collect::<R<Vec<_>>>()
-                })
-                .transpose()?;
-            Ok(Unknown {
-                index,
-                dependencies,
-                dependencies_kind,
-            })
+            convert_unknown(u, &el).map_err(at(lines.get(i).copied()))
         })
         .collect()
+}
+
+fn convert_unknown(u: RawUnknown, el: &str) -> R<Unknown> {
+    let index = required(u.index, "index", el)?;
+    let index = parse_int(&index, "index", el, "an unsigned integer")?;
+    let dependencies = u
+        .dependencies
+        .as_deref()
+        .map(|d| parse_index_list(d, "dependencies", el))
+        .transpose()?;
+    let dependencies_kind = u
+        .dependencies_kind
+        .as_deref()
+        .map(|d| {
+            d.split_ascii_whitespace()
+                .map(|k| keyword::<DependencyKind>(k, el))
+                .collect::<R<Vec<_>>>()
+        })
+        .transpose()?;
+    Ok(Unknown {
+        index,
+        dependencies,
+        dependencies_kind,
+    })
 }
 
 #[cfg(test)]

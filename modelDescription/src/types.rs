@@ -36,6 +36,47 @@ pub struct ModelDescription {
     pub vendor_annotations: Option<String>,
     pub model_variables: Vec<ScalarVariable>,
     pub model_structure: ModelStructure,
+    /// Where the elements stood in the text this description was read from (empty for a
+    /// description built in code); error and validation messages name these lines.
+    pub source_lines: SourceLines,
+}
+
+/// 1-based line numbers of the elements of a description read from text, each list in
+/// document order (the `i`-th `<ScalarVariable>` at `variables[i]`, …). Not part of a
+/// description's value: two descriptions differing only in their lines are equal.
+#[derive(Debug, Clone, Default)]
+pub struct SourceLines {
+    pub root: Option<usize>,
+    pub model_exchange: Option<usize>,
+    pub co_simulation: Option<usize>,
+    pub default_experiment: Option<usize>,
+    pub model_structure: Option<usize>,
+    pub units: Vec<usize>,
+    pub types: Vec<usize>,
+    pub categories: Vec<usize>,
+    pub variables: Vec<usize>,
+    pub outputs: Vec<usize>,
+    pub derivatives: Vec<usize>,
+    pub initial_unknowns: Vec<usize>,
+}
+
+impl PartialEq for SourceLines {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl SourceLines {
+    /// `", line N"` for an element at `line`, else nothing: the suffix messages append
+    /// inside their parenthesis.
+    pub fn suffix(line: Option<usize>) -> String {
+        line.map(|l| format!(", line {l}")).unwrap_or_default()
+    }
+
+    /// `"line N: "` for an element at `line`, else nothing: the prefix of a message.
+    pub fn prefix(line: Option<usize>) -> String {
+        line.map(|l| format!("line {l}: ")).unwrap_or_default()
+    }
 }
 
 impl ModelDescription {

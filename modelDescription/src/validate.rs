@@ -217,40 +217,52 @@ impl ModelDescription {
         problems
     }
 
+    /// `"name"`, with the variable's line when known, for lists of variables in messages.
+    fn named(&self, i: usize) -> String {
+        let v = &self.model_variables[i];
+        match self.source_lines.variables.get(i) {
+            Some(l) => format!("\"{}\" (line {l})", v.name),
+            None => format!("\"{}\"", v.name),
+        }
+    }
+
     fn validate_header(&self, problems: &mut Vec<String>) {
+        let lines = &self.source_lines;
+        let root = SourceLines::prefix(lines.root);
         if self.fmi_version != "2.0" {
             problems.push(format!(
-                "fmiVersion is \"{}\" but must be \"2.0\".",
+                "{root}fmiVersion is \"{}\" but must be \"2.0\".",
                 self.fmi_version
             ));
         }
         if self.model_name.trim().is_empty() {
-            problems.push("modelName is empty.".into());
+            problems.push(format!("{root}modelName is empty."));
         }
         if self.guid.trim().is_empty() {
-            problems.push("guid is empty.".into());
+            problems.push(format!("{root}guid is empty."));
         }
         if self.model_exchange.is_none() && self.co_simulation.is_none() {
-            problems.push(
-                "The description has neither a <ModelExchange> nor a <CoSimulation> element."
-                    .into(),
-            );
+            problems.push(format!(
+                "{root}The description has neither a <ModelExchange> nor a <CoSimulation> element."
+            ));
         }
         let identifiers = [
             self.model_exchange
                 .as_ref()
-                .map(|m| ("ModelExchange", &m.model_identifier)),
+                .map(|m| ("ModelExchange", &m.model_identifier, lines.model_exchange)),
             self.co_simulation
                 .as_ref()
-                .map(|c| ("CoSimulation", &c.model_identifier)),
+                .map(|c| ("CoSimulation", &c.model_identifier, lines.co_simulation)),
         ];
-        for (element, id) in identifiers.into_iter().flatten() {
+        for (element, id, line) in identifiers.into_iter().flatten() {
             if !is_c_identifier(id) {
                 problems.push(format!(
-                    "<{element}> modelIdentifier=\"{id}\" is not a valid C identifier."
+                    "{}<{element}> modelIdentifier=\"{id}\" is not a valid C identifier.",
+                    SourceLines::prefix(line)
                 ));
             }
         }
+        let experiment = SourceLines::prefix(lines.default_experiment);
         if let Some(d) = &self.default_experiment {
             let start = d.start_time.unwrap_or(0.0);
             for (name, value) in [
@@ -261,28 +273,30 @@ impl ModelDescription {
             ] {
                 if let Some(v) = value {
                     if !v.is_finite() {
-                        problems.push(format!("<DefaultExperiment> {name}={v} is not finite."));
+                        problems.push(format!(
+                            "{experiment}<DefaultExperiment> {name}={v} is not finite."
+                        ));
                     }
                 }
             }
             if let Some(stop) = d.stop_time {
                 if stop <= start {
                     problems.push(format!(
-                        "<DefaultExperiment> stopTime={stop} is not greater than startTime={start}."
+                        "{experiment}<DefaultExperiment> stopTime={stop} is not greater than startTime={start}."
                     ));
                 }
             }
             if let Some(t) = d.tolerance {
                 if t <= 0.0 {
                     problems.push(format!(
-                        "<DefaultExperiment> tolerance={t} must be positive."
+                        "{experiment}<DefaultExperiment> tolerance={t} must be positive."
                     ));
                 }
             }
             if let Some(h) = d.step_size {
                 if h <= 0.0 {
                     problems.push(format!(
-                        "<DefaultExperiment> stepSize={h} must be positive."
+                        "{experiment}<DefaultExperiment> stepSize={h} must be positive."
                     ));
                 }
             }
@@ -290,11 +304,13 @@ impl ModelDescription {
     }
 
     fn validate_units_and_types(&self, problems: &mut Vec<String>) {
+        let lines = &self.source_lines;
         let mut seen = HashSet::new();
-        for u in &self.unit_definitions {
+        for (i, u) in self.unit_definitions.iter().enumerate() {
+            let here = SourceLines::prefix(lines.units.get(i).copied());
             if !seen.insert(u.name.as_str()) {
                 problems.push(format!(
-                    "The unit \"{}\" is defined more than once.",
+                    "{here}The unit \"{}\" is defined more than once.",
                     u.name
                 ));
             }
@@ -302,17 +318,24 @@ impl ModelDescription {
             for d in &u.display_units {
                 if !display.insert(d.name.as_str()) {
                     problems.push(format!(
-                        "The display unit \"{}\" of unit \"{}\" is defined more than once.",
+                        "{here}The display unit \"{}\" of unit \"{}\" is defined more than once.",
                         d.name, u.name
                     ));
                 }
             }
         }
         let mut seen = HashSet::new();
-        for t in &self.type_definitions {
+        for (i, t) in self.type_definitions.iter().enumerate() {
+            let line = lines.types.get(i).copied();
+            let here = SourceLines::prefix(line);
+            let what = format!(
+                "Type \"{}\"{}",
+                t.name,
+                line.map(|l| format!(" (line {l})")).unwrap_or_default()
+            );
             if !seen.insert(t.name.as_str()) {
                 problems.push(format!(
-                    "The type \"{}\" is defined more than once.",
+                    "{here}The type \"{}\" is defined more than once.",
                     t.name
                 ));
             }
@@ -320,22 +343,16 @@ impl ModelDescription {
                 SimpleTypeKind::Real(r) => {
                     self.check_unit(
                         problems,
-                        &format!("Type \"{}\"", t.name),
+                        &what,
                         r.unit.as_deref(),
                         r.display_unit.as_deref(),
                     );
-                    check_range(
-                        problems,
-                        &format!("Type \"{}\"", t.name),
-                        r.min,
-                        r.max,
-                        None,
-                    );
+                    check_range(problems, &what, r.min, r.max, None);
                 }
                 SimpleTypeKind::Integer(i) => {
                     check_range(
                         problems,
-                        &format!("Type \"{}\"", t.name),
+                        &what,
                         i.min.map(f64::from),
                         i.max.map(f64::from),
                         None,
@@ -343,14 +360,17 @@ impl ModelDescription {
                 }
                 SimpleTypeKind::Enumeration { items, .. } => {
                     if items.is_empty() {
-                        problems.push(format!("The enumeration type \"{}\" has no items.", t.name));
+                        problems.push(format!(
+                            "{here}The enumeration type \"{}\" has no items.",
+                            t.name
+                        ));
                     }
                     let mut names = HashSet::new();
                     let mut values = HashSet::new();
                     for item in items {
                         if !names.insert(item.name.as_str()) || !values.insert(item.value) {
                             problems.push(format!(
-                                "The enumeration type \"{}\" has more than one item named \"{}\" or with value {}.",
+                                "{here}The enumeration type \"{}\" has more than one item named \"{}\" or with value {}.",
                                 t.name, item.name, item.value
                             ));
                         }
@@ -398,7 +418,12 @@ impl ModelDescription {
         let mut references: BTreeMap<(&str, u32), Vec<usize>> = BTreeMap::new();
 
         for (i, v) in self.model_variables.iter().enumerate() {
-            let what = format!("Variable \"{}\" (index {})", v.name, i + 1);
+            let what = format!(
+                "Variable \"{}\" (index {}{})",
+                v.name,
+                i + 1,
+                SourceLines::suffix(self.source_lines.variables.get(i).copied())
+            );
 
             if let Some(first) = names.insert(v.name.as_str(), i) {
                 problems.push(format!(
@@ -564,10 +589,7 @@ impl ModelDescription {
         }
 
         if independent.len() > 1 {
-            let names: Vec<String> = independent
-                .iter()
-                .map(|&i| format!("\"{}\"", self.model_variables[i].name))
-                .collect();
+            let names: Vec<String> = independent.iter().map(|&i| self.named(i)).collect();
             problems.push(format!(
                 "At most one variable may have causality=\"independent\", found {}.",
                 names.join(", ")
@@ -578,12 +600,11 @@ impl ModelDescription {
             if members.len() < 2 {
                 continue;
             }
-            let vars: Vec<&ScalarVariable> =
-                members.iter().map(|&i| &self.model_variables[i]).collect();
             let list = |filter: &dyn Fn(&ScalarVariable) -> bool| -> Vec<String> {
-                vars.iter()
-                    .filter(|v| filter(v))
-                    .map(|v| format!("\"{}\"", v.name))
+                members
+                    .iter()
+                    .filter(|&&i| filter(&self.model_variables[i]))
+                    .map(|&i| self.named(i))
                     .collect()
             };
             let with_start = list(&|v| v.variability != Variability::Constant && v.has_start());
@@ -609,17 +630,23 @@ impl ModelDescription {
         let ms = &self.model_structure;
         let mut indices_ok = true;
 
-        for (list, unknowns) in [
-            ("Outputs", &ms.outputs),
-            ("Derivatives", &ms.derivatives),
-            ("InitialUnknowns", &ms.initial_unknowns),
+        let lines = &self.source_lines;
+        for (list, unknowns, list_lines) in [
+            ("Outputs", &ms.outputs, &lines.outputs),
+            ("Derivatives", &ms.derivatives, &lines.derivatives),
+            (
+                "InitialUnknowns",
+                &ms.initial_unknowns,
+                &lines.initial_unknowns,
+            ),
         ] {
             let mut previous = 0u32;
             for (k, u) in unknowns.iter().enumerate() {
                 let what = format!(
-                    "ModelStructure/{list}/Unknown {} (index={})",
+                    "ModelStructure/{list}/Unknown {} (index={}{})",
                     k + 1,
-                    u.index
+                    u.index,
+                    SourceLines::suffix(list_lines.get(k).copied())
                 );
                 if u.index == 0 || u.index as usize > n {
                     problems.push(format!(
@@ -678,8 +705,9 @@ impl ModelDescription {
         if expected != actual {
             let missing = name_set(&mut expected.difference(&actual).copied());
             let extra = name_set(&mut actual.difference(&expected).copied());
-            let mut message = String::from(
-                "ModelStructure/Outputs must have exactly one entry for each variable with causality=\"output\".",
+            let mut message = format!(
+                "{}ModelStructure/Outputs must have exactly one entry for each variable with causality=\"output\".",
+                SourceLines::prefix(lines.model_structure)
             );
             if !missing.is_empty() {
                 message.push_str(&format!(" Missing: {}.", missing.join(", ")));
@@ -698,7 +726,8 @@ impl ModelDescription {
             if !has_derivative {
                 derivatives_ok = false;
                 problems.push(format!(
-                    "ModelStructure/Derivatives/Unknown {} refers to variable \"{}\" (index {}), which has no derivative attribute.",
+                    "{}ModelStructure/Derivatives/Unknown {} refers to variable \"{}\" (index {}), which has no derivative attribute.",
+                    SourceLines::prefix(lines.derivatives.get(k).copied()),
                     k + 1,
                     v.name,
                     u.index
@@ -751,7 +780,8 @@ impl ModelDescription {
             .collect();
         if expected != actual {
             problems.push(format!(
-                "ModelStructure/InitialUnknowns does not contain the expected set of variables. Expected {{{}}} but was {{{}}}.",
+                "{}ModelStructure/InitialUnknowns does not contain the expected set of variables. Expected {{{}}} but was {{{}}}.",
+                SourceLines::prefix(lines.model_structure),
                 name_set(&mut expected.iter().copied()).join(", "),
                 name_set(&mut actual.iter().copied()).join(", ")
             ));

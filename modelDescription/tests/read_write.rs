@@ -177,8 +177,8 @@ fn openmodelica_description_reads_and_its_missing_units_are_reported() {
     assert_eq!(
         problems,
         [
-            "Variable \"h\" (index 1): the unit \"m\" is not defined.",
-            "Variable \"A\" (index 5): the unit \"m2\" is not defined.",
+            "Variable \"h\" (index 1, line 42): the unit \"m\" is not defined.",
+            "Variable \"A\" (index 5, line 79): the unit \"m2\" is not defined.",
         ]
     );
 }
@@ -377,4 +377,50 @@ fn from_path_names_the_missing_file() {
     let e = ModelDescription::from_path("/nonexistent/dir/modelDescription.xml").unwrap_err();
     assert_eq!(e.origin(), "/nonexistent/dir/modelDescription.xml");
     assert!(e.to_string().contains("cannot read the file"), "{e}");
+}
+
+#[test]
+fn messages_name_the_line_of_the_element() {
+    let xml = r#"<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="2.0" modelName="m" guid="{1}">
+  <CoSimulation modelIdentifier="m"/>
+  <ModelVariables>
+    <ScalarVariable name="a" valueReference="0" causality="output"><Real/></ScalarVariable>
+    <ScalarVariable name="b" valueReference="1" causality="input" variability="sometimes">
+      <Real start="0"/>
+    </ScalarVariable>
+  </ModelVariables>
+  <ModelStructure/>
+</fmiModelDescription>"#;
+    // a value the conversion refuses: the line of its <ScalarVariable>
+    let err = xml.parse::<ModelDescription>().unwrap_err().to_string();
+    assert!(err.contains("line 6: <ScalarVariable> 2 \"b\""), "{err}");
+
+    // rules the validation checks: the lines of the variable, the unknown and the
+    // ModelStructure element
+    let xml = xml.replace(" variability=\"sometimes\"", "").replace(
+        "<ModelStructure/>",
+        "<ModelStructure>\n    <Outputs><Unknown index=\"7\"/></Outputs>\n  </ModelStructure>",
+    );
+    let xml = xml
+        .replace(
+            "guid=\"{1}\"",
+            "guid=\"{1}\" variableNamingConvention=\"structured\"",
+        )
+        .replace("name=\"a\"", "name=\"a b\"");
+    let md: ModelDescription = xml.parse().expect("parses");
+    let problems = md.validate().join("\n");
+    assert!(
+        problems.contains("Variable \"a b\" (index 1, line 5)"),
+        "{problems}"
+    );
+    assert!(
+        problems.contains("ModelStructure/Outputs/Unknown 1 (index=7, line 11)"),
+        "{problems}"
+    );
+    // built in code, a description has no lines and its messages none either
+    let mut built = md.clone();
+    built.source_lines = SourceLines::default();
+    assert_eq!(built, md);
+    assert!(!built.validate().join("\n").contains("line "));
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Create (once) the Python virtual environment with the pinned FMPy that the comparison
-# tests run as the reference importer.
+# tests run as the reference importer, and the pinned libcosimpy (libcosim) the
+# interoperability test runs the exported SSP in.
 #
 #   tests/python/setup-venv.sh          # venv at "${TBI_VENV:-<repo>/target/venv}"
 #
@@ -10,6 +11,7 @@
 set -euo pipefail
 
 FMPY_VERSION="0.3.32"
+LIBCOSIMPY_VERSION="0.0.6"
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 VENV="${TBI_VENV:-$REPO/target/venv}"
@@ -18,6 +20,8 @@ PYTHON="${PYTHON:-python3}"
 have_fmpy() {
     [ -x "$VENV/bin/python" ] && [ -x "$VENV/bin/fmpy" ] &&
         "$VENV/bin/python" -c "import sys, fmpy; sys.exit(0 if fmpy.__version__ == '$FMPY_VERSION' else 1)" \
+            >/dev/null 2>&1 &&
+        "$VENV/bin/python" -c "import sys, importlib.metadata as m; sys.exit(0 if m.version('libcosimpy') == '$LIBCOSIMPY_VERSION' else 1)" \
             >/dev/null 2>&1
 }
 
@@ -50,14 +54,15 @@ if [ ! -x "$VENV/bin/python" ]; then
     }
 fi
 
-echo "setup-venv.sh: installing fmpy==$FMPY_VERSION into $VENV" >&2
-"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check "fmpy==$FMPY_VERSION" >&2 || {
-    echo "setup-venv.sh: pip could not install fmpy==$FMPY_VERSION into $VENV" >&2
+echo "setup-venv.sh: installing fmpy==$FMPY_VERSION and libcosimpy==$LIBCOSIMPY_VERSION into $VENV" >&2
+"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
+    "fmpy==$FMPY_VERSION" "libcosimpy==$LIBCOSIMPY_VERSION" >&2 || {
+    echo "setup-venv.sh: pip could not install fmpy==$FMPY_VERSION and libcosimpy==$LIBCOSIMPY_VERSION into $VENV (libcosimpy needs Python >= 3.11 on x86_64 Linux)" >&2
     exit 1
 }
 
 if ! have_fmpy; then
-    echo "setup-venv.sh: fmpy==$FMPY_VERSION is not importable from $VENV after installation" >&2
+    echo "setup-venv.sh: fmpy==$FMPY_VERSION or libcosimpy==$LIBCOSIMPY_VERSION is not importable from $VENV after installation" >&2
     exit 1
 fi
 echo "$VENV"

@@ -94,6 +94,14 @@ pub(super) fn instantiate_checks(ck: &mut Checker, ctx: &Ctx) {
         },
     );
     ck.check(
+        "fmi2Instantiate refuses an empty GUID with a logged reason",
+        || {
+            let mut a = ctx.valid_args();
+            a.guid = Some(c"".to_owned());
+            refused(a, true)
+        },
+    );
+    ck.check(
         "fmi2Instantiate refuses a NULL instanceName with a logged reason",
         || {
             let mut a = ctx.valid_args();
