@@ -107,6 +107,7 @@ fn coupling_explicit_schemes_are_first_order() {
     let t_end = 2.0;
     for scheme in ["jacobi", "gauss-seidel"] {
         let mut errors = Vec::new();
+        let mut defects = Vec::new();
         for h in [1e-2_f64, 5e-3, 2.5e-3] {
             let steps = (t_end / h).round() as usize;
             let mono = case.monolithic(&vec![h; steps]);
@@ -116,6 +117,7 @@ fn coupling_explicit_schemes_are_first_order() {
                 .unwrap();
             assert_eq!(run.stats.iterations, steps, "explicit: one sweep per step");
             errors.push(relative_error(&run.u, &mono));
+            defects.push(run.stats.max_residual);
         }
         for pair in errors.windows(2) {
             let order = (pair[0] / pair[1]).log2();
@@ -125,6 +127,18 @@ fn coupling_explicit_schemes_are_first_order() {
                 "{scheme}: observed order {order}"
             );
         }
+        // The reported interface defect is the change of the lagged values over one step in
+        // the weighted measure: proportional to h on a smooth response, and far above the
+        // implicit tolerance (1) at these steps.
+        for pair in defects.windows(2) {
+            let ratio = pair[1] / pair[0];
+            eprintln!("{scheme}: defects {defects:.3?}, ratio {ratio:.3}");
+            assert!(
+                (0.4..=0.6).contains(&ratio),
+                "{scheme}: defect ratio {ratio}"
+            );
+        }
+        assert!(defects[2] > 1e3, "{scheme}: defect {}", defects[2]);
         assert!(
             errors[2] > 1e-3,
             "{scheme}: the splitting error must be visible"

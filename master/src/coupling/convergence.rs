@@ -27,6 +27,52 @@
 //!
 //! A group of one value is the plain measure above.
 
+/// The groups of the grouped measure: the group of each value, scratch for the group
+/// maxima, and the largest magnitude each group has had ([`WeightedRms::evaluate_lag`]).
+#[derive(Debug, Clone, Default)]
+pub struct Groups {
+    of: Vec<usize>,
+    max: Vec<f64>,
+    peak: Vec<f64>,
+}
+
+impl Groups {
+    /// Values with equal keys share a group (numbered in order of first appearance).
+    pub fn by_key<K: PartialEq>(keys: impl Iterator<Item = K>) -> Self {
+        let (of, n) = number_by_key(keys);
+        Self {
+            of,
+            max: vec![0.0; n],
+            peak: vec![0.0; n],
+        }
+    }
+
+    /// Number of values grouped.
+    pub fn len(&self) -> usize {
+        self.of.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.of.is_empty()
+    }
+}
+
+/// Number the keys by equality, in order of first appearance; returns the numbers and how
+/// many distinct keys there are.
+pub(crate) fn number_by_key<K: PartialEq>(keys: impl Iterator<Item = K>) -> (Vec<usize>, usize) {
+    let mut seen: Vec<K> = Vec::new();
+    let numbers = keys
+        .map(|k| match seen.iter().position(|s| *s == k) {
+            Some(n) => n,
+            None => {
+                seen.push(k);
+                seen.len() - 1
+            }
+        })
+        .collect();
+    (numbers, seen.len())
+}
+
 /// Weighted RMS of the interface change with relative and absolute tolerances.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WeightedRms {
@@ -61,6 +107,33 @@ impl WeightedRms {
             group_max[g] = group_max[g].max(v.abs());
         }
         self.rms(x, x_tilde, |i, _| group_max[group_of[i]])
+    }
+
+    /// The grouped measure over [`Groups`].
+    pub fn evaluate_in(&self, x: &[f64], x_tilde: &[f64], groups: &mut Groups) -> f64 {
+        let Groups { of, max, .. } = groups;
+        self.evaluate_grouped(x, x_tilde, of, max)
+    }
+
+    /// The interface defect of an explicit step: `x` the values the lagged inputs used
+    /// (outputs at `t`), `x̃` the outputs they stand for (at `t + h`), each difference
+    /// measured against the largest magnitude its group has had so far in the run (`x` and
+    /// `x̃` included), `X_g = max |x̃ⱼ|` over j ∈ g and all earlier steps:
+    ///
+    /// ```text
+    ///            ┌  1   n   ⎛        x̃ᵢ − xᵢ          ⎞² ┐ ½
+    /// ‖x̃ − x‖ = │ ───  Σ   ⎜ ──────────────────────── ⎟  │ .
+    ///            └  n  i=1  ⎝ rtol·X_g(i) + atol       ⎠  ┘
+    /// ```
+    ///
+    /// So an oscillating value is judged against its amplitude, not against its value at a
+    /// zero crossing, and on a smooth response the defect is proportional to h.
+    pub fn evaluate_lag(&self, x: &[f64], x_tilde: &[f64], groups: &mut Groups) -> f64 {
+        for ((&g, &a), &b) in groups.of.iter().zip(x).zip(x_tilde) {
+            groups.peak[g] = groups.peak[g].max(a.abs()).max(b.abs());
+        }
+        let Groups { of, peak, .. } = groups;
+        self.rms(x, x_tilde, |i, _| peak[of[i]])
     }
 
     /// Weighted RMS of `x̃ − x` with value i measured against `magnitude(i, x̃ᵢ)`.

@@ -25,8 +25,9 @@ pub(crate) struct Exchange {
     /// Input value references written to each participant, and where each takes its value.
     in_vrs: Vec<Vec<u32>>,
     in_routes: Vec<Vec<Route>>,
-    /// Source `(participant, output vr)` of each slot.
+    /// Source `(participant, output vr)` of each slot, and the source output's declared unit.
     slot_source: Vec<(usize, u32)>,
+    slot_unit: Vec<Option<String>>,
     /// Current value of each slot.
     pub values: Vec<f64>,
     /// Slot of each interface unknown (distinct feedback sources).
@@ -53,6 +54,7 @@ impl Exchange {
             in_vrs: vec![Vec::new(); np],
             in_routes: vec![Vec::new(); np],
             slot_source: Vec::new(),
+            slot_unit: Vec::new(),
             values: Vec::new(),
             feedback_slots: Vec::new(),
             feedback_pairs: Vec::new(),
@@ -84,6 +86,8 @@ impl Exchange {
                 Some(s) => s,
                 None => {
                     ex.slot_source.push((c.from, c.from_vr));
+                    ex.slot_unit
+                        .push(sys.participants[c.from].unit(c.from_vr).map(str::to_owned));
                     ex.out_vrs[c.from].push(c.from_vr);
                     ex.out_slots[c.from].push(ex.slot_source.len() - 1);
                     ex.slot_source.len() - 1
@@ -195,6 +199,20 @@ impl Exchange {
     /// Writes every participant's inputs from the current slot values.
     pub fn write_all(&mut self, sys: &mut System) -> Result<(), CouplingError> {
         (0..self.participants).try_for_each(|p| self.write_inputs(sys, p, None))
+    }
+
+    /// Number of slots (distinct connected outputs).
+    pub fn slots(&self) -> usize {
+        self.slot_source.len()
+    }
+
+    /// The convergence groups ([`super::convergence::Groups`]) of the values of `slots`:
+    /// outputs of the same participant with the same declared unit share a group; an output
+    /// without a unit is a group of its own.
+    pub fn groups(&self, slots: impl Iterator<Item = usize>) -> super::convergence::Groups {
+        super::convergence::Groups::by_key(
+            slots.map(|s| (self.slot_source[s].0, self.slot_unit[s].as_deref().ok_or(s))),
+        )
     }
 
     /// Copies the current values of the interface unknowns into `x`.

@@ -5,7 +5,7 @@
 //! outputs at `t` of the participants `q ≥ p`. Only the feedback connections (`from ≥ to`) are
 //! lagged, and the coupling error is first order in `h`. No state is saved.
 
-use super::convergence::WeightedRms;
+use super::convergence::{Groups, WeightedRms};
 use super::exchange::Exchange;
 use super::scheme::{discard_error, do_step, CouplingScheme, StepReport};
 use super::system::{CouplingError, StepStatus, System};
@@ -14,16 +14,19 @@ use super::system::{CouplingError, StepStatus, System};
 #[derive(Debug, Clone)]
 pub struct GaussSeidel {
     measure: WeightedRms,
+    /// Groups of the values the defect is measured over ([`Exchange::groups`]).
+    groups: Groups,
     exchange: Option<Exchange>,
     lagged: Vec<f64>,
     fresh: Vec<f64>,
 }
 
 impl GaussSeidel {
-    /// `measure` only scales the reported coupling defect.
+    /// `measure` only scales the reported interface defect ([`super::scheme::StepReport`]).
     pub fn new(measure: WeightedRms) -> Self {
         Self {
             measure,
+            groups: Groups::default(),
             exchange: None,
             lagged: Vec::new(),
             fresh: Vec::new(),
@@ -37,12 +40,17 @@ impl CouplingScheme for GaussSeidel {
     }
 
     fn initialize(&mut self, sys: &mut System) -> Result<(), CouplingError> {
-        self.exchange = Some(Exchange::initial(sys)?);
+        let ex = Exchange::initial(sys)?;
+        self.groups = ex.groups(ex.feedback_slots.iter().copied());
+        self.exchange = Some(ex);
         Ok(())
     }
 
     fn step(&mut self, sys: &mut System, t: f64, h: f64) -> Result<StepReport, CouplingError> {
         let ex = Exchange::current(&mut self.exchange, sys)?;
+        if self.groups.len() != ex.unknowns() {
+            self.groups = ex.groups(ex.feedback_slots.iter().copied());
+        }
         ex.read_all(sys)?;
         ex.feedback_values(&mut self.lagged);
         for p in 0..sys.participants.len() {
@@ -56,7 +64,9 @@ impl CouplingScheme for GaussSeidel {
         ex.feedback_values(&mut self.fresh);
         Ok(StepReport {
             iterations: 1,
-            residual: self.measure.evaluate(&self.lagged, &self.fresh),
+            residual: self
+                .measure
+                .evaluate_lag(&self.lagged, &self.fresh, &mut self.groups),
             converged: true,
             discarded_by: None,
         })

@@ -75,7 +75,7 @@
 //! iteration ends as not converged with the state of the last sweep.
 
 use super::acceleration::Acceleration;
-use super::convergence::WeightedRms;
+use super::convergence::{number_by_key, Groups, WeightedRms};
 use super::exchange::{same_time, Exchange};
 use super::scheme::{do_step, restore_all, save_all, CouplingScheme, StepReport};
 use super::system::{CouplingError, StepStatus, System};
@@ -106,10 +106,8 @@ pub struct Implicit {
     /// Scaling block of each unknown, and the largest |x̃| seen in each block during the run.
     block_of: Vec<usize>,
     block_max: Vec<f64>,
-    /// Convergence group of each unknown (same source and declared unit; a group of its own
-    /// when no unit is declared) and scratch for the group maxima.
-    group_of: Vec<usize>,
-    group_max: Vec<f64>,
+    /// Convergence groups of the unknowns ([`Exchange::groups`]).
+    groups: Groups,
     x: Vec<f64>,
     x_tilde: Vec<f64>,
     next: Vec<f64>,
@@ -134,8 +132,7 @@ impl Implicit {
             initial: None,
             block_of: Vec::new(),
             block_max: Vec::new(),
-            group_of: Vec::new(),
-            group_max: Vec::new(),
+            groups: Groups::default(),
             x: Vec::new(),
             x_tilde: Vec::new(),
             next: Vec::new(),
@@ -159,16 +156,7 @@ impl Implicit {
         let n_blocks;
         (self.block_of, n_blocks) = number_by_key(ex.feedback_pairs.iter().copied());
         self.block_max = vec![0.0; n_blocks];
-        // Same source and unit; an unknown without a declared unit keys on its own index.
-        let n_groups;
-        (self.group_of, n_groups) = number_by_key(
-            ex.feedback_pairs
-                .iter()
-                .zip(&ex.feedback_units)
-                .enumerate()
-                .map(|(i, (&(from, _), unit))| (from, unit.as_deref().ok_or(i))),
-        );
-        self.group_max = vec![0.0; n_groups];
+        self.groups = ex.groups(ex.feedback_slots.iter().copied());
         self.exchange = Some(ex);
         self.history.clear();
         self.initial = None;
@@ -260,12 +248,9 @@ impl CouplingScheme for Implicit {
             }
             ex.feedback_values(&mut self.x_tilde);
             report.iterations = k + 1;
-            report.residual = self.measure.evaluate_grouped(
-                &self.x,
-                &self.x_tilde,
-                &self.group_of,
-                &mut self.group_max,
-            );
+            report.residual = self
+                .measure
+                .evaluate_in(&self.x, &self.x_tilde, &mut self.groups);
             if report.residual <= 1.0 {
                 report.converged = true;
                 break;
@@ -305,20 +290,6 @@ impl CouplingScheme for Implicit {
 /// `X_b ← max(X_b, |x̃ᵢ|)` for the block `b` of each unknown `i`.
 /// Numbers the distinct keys in order of first appearance: the number of each item's key and
 /// the count of distinct keys.
-fn number_by_key<K: PartialEq>(keys: impl Iterator<Item = K>) -> (Vec<usize>, usize) {
-    let mut seen: Vec<K> = Vec::new();
-    let numbers = keys
-        .map(|k| match seen.iter().position(|s| *s == k) {
-            Some(n) => n,
-            None => {
-                seen.push(k);
-                seen.len() - 1
-            }
-        })
-        .collect();
-    (numbers, seen.len())
-}
-
 fn record_magnitudes(block_of: &[usize], block_max: &mut [f64], x_tilde: &[f64]) {
     for (&b, &v) in block_of.iter().zip(x_tilde) {
         block_max[b] = block_max[b].max(v.abs());

@@ -4,7 +4,7 @@
 //! (conceptually in parallel). Every connection is lagged by one step, so the coupling error is
 //! first order in `h`. No state is saved and nothing is iterated.
 
-use super::convergence::WeightedRms;
+use super::convergence::{Groups, WeightedRms};
 use super::exchange::Exchange;
 use super::scheme::{discard_error, do_step, CouplingScheme, StepReport};
 use super::system::{CouplingError, StepStatus, System};
@@ -13,16 +13,19 @@ use super::system::{CouplingError, StepStatus, System};
 #[derive(Debug, Clone)]
 pub struct Jacobi {
     measure: WeightedRms,
+    /// Groups of the values the defect is measured over ([`Exchange::groups`]).
+    groups: Groups,
     exchange: Option<Exchange>,
     lagged: Vec<f64>,
     fresh: Vec<f64>,
 }
 
 impl Jacobi {
-    /// `measure` only scales the reported coupling defect.
+    /// `measure` only scales the reported interface defect ([`super::scheme::StepReport`]).
     pub fn new(measure: WeightedRms) -> Self {
         Self {
             measure,
+            groups: Groups::default(),
             exchange: None,
             lagged: Vec::new(),
             fresh: Vec::new(),
@@ -36,12 +39,17 @@ impl CouplingScheme for Jacobi {
     }
 
     fn initialize(&mut self, sys: &mut System) -> Result<(), CouplingError> {
-        self.exchange = Some(Exchange::initial(sys)?);
+        let ex = Exchange::initial(sys)?;
+        self.groups = ex.groups(0..ex.slots());
+        self.exchange = Some(ex);
         Ok(())
     }
 
     fn step(&mut self, sys: &mut System, t: f64, h: f64) -> Result<StepReport, CouplingError> {
         let ex = Exchange::current(&mut self.exchange, sys)?;
+        if self.groups.len() != ex.slots() {
+            self.groups = ex.groups(0..ex.slots());
+        }
         ex.read_all(sys)?;
         self.lagged.clone_from(&ex.values);
         ex.write_all(sys)?;
@@ -54,7 +62,9 @@ impl CouplingScheme for Jacobi {
         self.fresh.clone_from(&ex.values);
         Ok(StepReport {
             iterations: 1,
-            residual: self.measure.evaluate(&self.lagged, &self.fresh),
+            residual: self
+                .measure
+                .evaluate_lag(&self.lagged, &self.fresh, &mut self.groups),
             converged: true,
             discarded_by: None,
         })

@@ -8,9 +8,11 @@ pub struct StepReport {
     /// Gauss–Seidel sweeps (participant `do_step` rounds) performed; 1 for explicit schemes.
     pub iterations: usize,
     /// Implicit scheme: the weighted RMS interface change of the last sweep (converged when
-    /// ≤ 1, see [`super::convergence::WeightedRms`]). Explicit schemes: the same measure of the
-    /// coupling defect, i.e. of the change over the step of the values that were lagged; for
-    /// information only.
+    /// ≤ 1, see [`super::convergence::WeightedRms`], grouped by source and unit). Explicit
+    /// schemes: the interface defect, how far the values the lagged inputs used (outputs at
+    /// `t`) are from the outputs they stand for (at `t + h`), in the same tolerances against
+    /// each group's largest magnitude so far ([`super::convergence::WeightedRms::evaluate_lag`]);
+    /// ≤ 1 would mean the lag is within the implicit tolerance; for information only.
     pub residual: f64,
     /// The convergence criterion holds (always `true` for explicit schemes).
     pub converged: bool,

@@ -1,4 +1,5 @@
-//! Building the C test FMU (tests/c-fmu) in variants and packaging it with
+//! Building the C test FMUs (tests/c-fmu: `<model>.c` with its description `<model>.xml`;
+//! the oscillator, and the sprung-mass vehicle) in variants and packaging them with
 //! `tbi::package::write_fmu` (needs master's internals, so it stays here). Running `tbi`,
 //! scratch folders, FMPy and the CSV comparison are in the shared `tbi_tests` library.
 #![allow(dead_code)]
@@ -12,21 +13,33 @@ use tbi_tests::{repo_path, scratch};
 pub struct Variant {
     /// File stem of the .fmu.
     pub name: String,
-    /// `-D` definitions for oscillator.c.
+    /// The model: `tests/c-fmu/<model>.c` and `.xml`, and the model identifier.
+    pub model: &'static str,
+    /// `-D` definitions for the C source.
     pub defines: Vec<String>,
-    /// Replacements applied to tests/c-fmu/modelDescription.xml.
+    /// Replacements applied to the model's description.
     pub xml_replacements: Vec<(String, String)>,
     /// Content of resources/gain.txt; `None` leaves the file out.
     pub gain: Option<String>,
 }
 
 impl Variant {
+    /// A variant of the oscillator (which reads resources/gain.txt).
     pub fn new(name: &str) -> Self {
         Self {
             name: name.into(),
+            model: "oscillator",
             defines: Vec::new(),
             xml_replacements: Vec::new(),
             gain: Some("1.0\n".into()),
+        }
+    }
+    /// The sprung-mass vehicle FMU (no resources).
+    pub fn sprung_mass(name: &str) -> Self {
+        Self {
+            model: "sprung_mass",
+            gain: None,
+            ..Self::new(name)
         }
     }
     pub fn define(mut self, d: &str) -> Self {
@@ -44,21 +57,23 @@ impl Variant {
 }
 
 pub fn model_description_xml(variant: &Variant) -> String {
-    let mut xml = std::fs::read_to_string(repo_path("tests/c-fmu/modelDescription.xml")).unwrap();
+    let path = repo_path(&format!("tests/c-fmu/{}.xml", variant.model));
+    let mut xml = std::fs::read_to_string(&path).unwrap();
     for (from, to) in &variant.xml_replacements {
         assert!(
             xml.contains(from.as_str()),
-            "modelDescription.xml has no {from:?}"
+            "{} has no {from:?}",
+            path.display()
         );
         xml = xml.replace(from.as_str(), to);
     }
     xml
 }
 
-/// Compile oscillator.c with the variant's definitions into `dir`/oscillator.so.
+/// Compile `<model>.c` with the variant's definitions into `dir`/`<model>.so`.
 pub fn compile(variant: &Variant, dir: &Path) -> PathBuf {
-    let source = repo_path("tests/c-fmu/oscillator.c");
-    let so = dir.join("oscillator.so");
+    let source = repo_path(&format!("tests/c-fmu/{}.c", variant.model));
+    let so = dir.join(format!("{}.so", variant.model));
     let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".into());
     let output = Command::new(&compiler)
         .args([
@@ -101,10 +116,13 @@ pub fn build_fmu(variant: &Variant) -> PathBuf {
     tbi::package::write_fmu(
         &fmu,
         &model_description_xml(variant),
-        "oscillator",
+        variant.model,
         &so,
         &resources,
-        Some("<html><body>Damped oscillator test FMU</body></html>"),
+        Some(&format!(
+            "<html><body>Test FMU {} (tests/c-fmu)</body></html>",
+            variant.model
+        )),
     )
     .unwrap_or_else(|e| panic!("{e}"));
     fmu
