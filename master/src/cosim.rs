@@ -7,8 +7,8 @@
 //! forces. Every step's outputs fill the same [`Sample`] as the monolithic solver.
 
 use crate::coupling::{
-    advance, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, Participant,
-    StepStatus, System,
+    advance, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, Discrete,
+    Participant, StepStatus, System,
 };
 use crate::model::Model;
 use crate::summary::CouplingSummary;
@@ -83,6 +83,28 @@ impl Participant for FmuParticipant {
     }
     fn unit(&self, vr: u32) -> Option<&str> {
         self.units.get(&vr).map(String::as_str)
+    }
+    fn get_discrete(
+        &mut self,
+        kind: Discrete,
+        vrs: &[u32],
+        values: &mut [i32],
+    ) -> Result<(), CouplingError> {
+        for (&vr, v) in vrs.iter().zip(values) {
+            *v = crate::ssp::get_discrete(&mut self.inst, kind, vr).map_err(CouplingError::new)?;
+        }
+        Ok(())
+    }
+    fn set_discrete(
+        &mut self,
+        kind: Discrete,
+        vrs: &[u32],
+        values: &[i32],
+    ) -> Result<(), CouplingError> {
+        for (&vr, &v) in vrs.iter().zip(values) {
+            crate::ssp::set_discrete(&mut self.inst, kind, vr, v).map_err(CouplingError::new)?;
+        }
+        Ok(())
     }
 }
 

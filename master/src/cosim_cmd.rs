@@ -6,13 +6,20 @@
 //! command line over the annotation over the defaults of [`CouplingConfig`].
 //!
 //! Output: a CSV (default `<SYSTEM stem>_out.csv`) with `time`, then every connected output
-//! as `component.variable` (in connection order), then the `--record` variables; a row
+//! as `component.variable` (in connection order; Integer and Boolean values as integers,
+//! Booleans 0/1), then the `--record` variables; a row
 //! after initialisation and one after each communication step, every number in full
 //! precision (shortest round-trip form, scientific notation as in `history.csv`). Beside it `<CSV>.json`: steps, iterations per step
-//! (mean, max), the largest final residual of the interface iteration, and the options used.
+//! (mean, max), the largest final residual of the interface iteration (explicit schemes:
+//! the interface defect), the options used, and the connections the scheme lagged by one
+//! step per pair of components (`lagged_connections`: for Gauss–Seidel the connections
+//! that close a cycle in the SSD's component order).
 
 use crate::coupling::CouplingStatistics;
-use crate::coupling::{advance, build_scheme, AccelerationKind, CouplingConfig, SchemeKind};
+use crate::coupling::{
+    advance, build_scheme, AccelerationKind, CouplingConfig, Discrete, SchemeKind,
+};
+use model_description::VariableKind;
 use std::io::Write;
 use std::path::PathBuf;
 use std::str::FromStr;
@@ -55,6 +62,47 @@ pub struct CosimArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// The connections an explicit scheme lags by one step, counted per pair of components:
+/// Jacobi lags every connection; Gauss–Seidel (components stepped in SSD order) lags those
+/// from a component to itself or to one stepped before it, the connections that close a
+/// cycle of the connection graph; the implicit scheme iterates them all, lagging none.
+fn lagged_connections(
+    sys: &crate::coupling::System,
+    scheme: SchemeKind,
+    components: &[crate::ssp::Component],
+) -> Vec<serde_json::Value> {
+    let pairs = sys
+        .connections
+        .iter()
+        .map(|c| (c.from, c.to))
+        .chain(sys.discrete.iter().map(|c| (c.from, c.to)));
+    let mut counts: Vec<((usize, usize), usize)> = Vec::new();
+    for (from, to) in pairs {
+        let lagged = match scheme {
+            SchemeKind::Jacobi => true,
+            SchemeKind::GaussSeidel => from >= to,
+            SchemeKind::Implicit => false,
+        };
+        if !lagged {
+            continue;
+        }
+        match counts.iter_mut().find(|(p, _)| *p == (from, to)) {
+            Some((_, n)) => *n += 1,
+            None => counts.push(((from, to), 1)),
+        }
+    }
+    counts
+        .into_iter()
+        .map(|((from, to), n)| {
+            serde_json::json!({
+                "from": components[from].name,
+                "to": components[to].name,
+                "connections": n,
+            })
+        })
+        .collect()
 }
 
 fn split_name(item: &str, option: &str) -> Result<(String, String), String> {
@@ -116,11 +164,8 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .split_once('=')
             .ok_or_else(|| format!("--set {item}: expected COMPONENT.VARIABLE=VALUE"))?;
         let (c, v) = split_name(name.trim(), "--set")?;
-        let value: f64 = value
-            .trim()
-            .parse()
-            .map_err(|_| format!("--set {item}: \"{value}\" is not a number"))?;
-        sets.push((c, v, value));
+        // typed by the variable when it is set (a number, an integer, true/false)
+        sets.push((c, v, value.trim().to_owned()));
     }
     let mut wired = crate::ssp::wire(&open, &sets, start, stop)?;
     if cfg.scheme == SchemeKind::Implicit {
@@ -139,11 +184,18 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
                 .into());
             }
         }
+        if let Some(c) = wired.system.discrete.first() {
+            return Err(format!(
+                "{}: the connection {} is {}; the implicit scheme iterates Real connections only, use --scheme gauss-seidel or jacobi",
+                open.origin, c.name, c.kind
+            )
+            .into());
+        }
     }
-    let mut columns: Vec<(String, usize, u32)> = wired
+    let mut columns: Vec<(String, usize, u32, Option<Discrete>)> = wired
         .outputs
         .iter()
-        .map(|o| (o.name.clone(), o.participant, o.vr))
+        .map(|o| (o.name.clone(), o.participant, o.vr, o.kind))
         .collect();
     for r in &args.record {
         let (c, v) = split_name(r, "--record")?;
@@ -157,7 +209,15 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .model_description()
             .variable(&v)
             .ok_or_else(|| format!("--record {r}: component \"{c}\" has no variable \"{v}\""))?;
-        columns.push((r.clone(), i, var.value_reference));
+        let kind = match var.kind {
+            VariableKind::Real(_) => None,
+            VariableKind::Integer(_) | VariableKind::Enumeration(_) => Some(Discrete::Integer),
+            VariableKind::Boolean(_) => Some(Discrete::Boolean),
+            VariableKind::String(_) => {
+                return Err(format!("--record {r}: a String variable cannot be recorded").into())
+            }
+        };
+        columns.push((r.clone(), i, var.value_reference, kind));
     }
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args
@@ -178,10 +238,19 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
                csv: &mut crate::outdir::NamedFile|
      -> Result<(), Box<dyn std::error::Error>> {
         let mut line = format!("{t:e}");
-        for (_, p, vr) in &columns {
-            let mut v = [0.0];
-            sys.participants[*p].get_real(&[*vr], &mut v)?;
-            line.push_str(&format!(",{:e}", v[0]));
+        for (_, p, vr, kind) in &columns {
+            match kind {
+                None => {
+                    let mut v = [0.0];
+                    sys.participants[*p].get_real(&[*vr], &mut v)?;
+                    line.push_str(&format!(",{:e}", v[0]));
+                }
+                Some(kind) => {
+                    let mut v = [0];
+                    sys.participants[*p].get_discrete(*kind, &[*vr], &mut v)?;
+                    line.push_str(&format!(",{}", v[0]));
+                }
+            }
         }
         writeln!(csv, "{line}")?;
         Ok(())
@@ -205,6 +274,7 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     pb.finish_and_clear();
     csv.flush()?;
+    let lagged = lagged_connections(&wired.system, cfg.scheme, &open.ssd.components);
     let summary = serde_json::json!({
         "system": open.origin,
         "start_time_s": start,
@@ -219,6 +289,7 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         "iterations_max": stats.max_iterations,
         "max_residual": stats.max_residual,
         "accepted_unconverged": stats.accepted_unconverged,
+        "lagged_connections": lagged,
     });
     let mut json_name = output.clone().into_os_string();
     json_name.push(".json");

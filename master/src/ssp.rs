@@ -17,9 +17,10 @@
 //! ```
 //!
 //! whose attributes are the keys of a scenario's `[coupling]` table plus `step_size` (s);
-//! command-line options override them. Only Real connections are coupled; an Integer,
-//! Boolean or String connection is refused naming it. The participants are stepped in the
-//! order of the SSD's components (the Gauss–Seidel order).
+//! command-line options override them. Real connections are coupled by every scheme;
+//! Integer (and Enumeration) and Boolean connections by the explicit schemes only (passed
+//! once per step, never iterated); a String connection is refused naming it. The
+//! participants are stepped in the order of the SSD's components (the Gauss–Seidel order).
 //!
 //! Initialisation: every FMU is set up and enters initialisation mode, the parameter
 //! bindings (then `--set` values) are applied, and the connected values are exchanged
@@ -27,7 +28,7 @@
 //! are connected to.
 
 use crate::cosim::FmuParticipant;
-use crate::coupling::{Connection, CouplingConfig, System};
+use crate::coupling::{Connection, CouplingConfig, Discrete, DiscreteConnection, System};
 use fmi_import::archive::UnpackedDir;
 use fmi_import::{Fmu, InstantiateOptions, UnpackLimits};
 use model_description::{Causality, ModelDescription, Variability, VariableKind};
@@ -307,6 +308,8 @@ pub struct Output {
     pub name: String,
     pub participant: usize,
     pub vr: u32,
+    /// `None` for a Real output.
+    pub kind: Option<Discrete>,
 }
 
 /// The wired system and what to record.
@@ -318,21 +321,63 @@ pub struct Wired {
     pub fmus: Vec<Arc<Fmu>>,
 }
 
-fn real_variable<'a>(
+/// The variable a connection names, and its kind (`None`: Real; Enumerations connect as
+/// Integers); String variables are refused.
+fn connectable_variable<'a>(
     md: &'a ModelDescription,
     component: &str,
     name: &str,
     origin: &str,
-) -> Result<&'a model_description::ScalarVariable, String> {
+) -> Result<(&'a model_description::ScalarVariable, Option<Discrete>), String> {
     let v = md
         .variable(name)
         .ok_or_else(|| format!("{origin}: component \"{component}\" has no variable \"{name}\""))?;
-    if !matches!(v.kind, VariableKind::Real(_)) {
-        return Err(format!(
-            "{origin}: {component}.{name} is not a Real variable; only Real connections are coupled"
-        ));
+    let kind = match v.kind {
+        VariableKind::Real(_) => None,
+        VariableKind::Integer(_) | VariableKind::Enumeration(_) => Some(Discrete::Integer),
+        VariableKind::Boolean(_) => Some(Discrete::Boolean),
+        VariableKind::String(_) => {
+            return Err(format!(
+                "{origin}: {component}.{name} is a String variable; Real, Integer and Boolean connections are coupled"
+            ))
+        }
+    };
+    Ok((v, kind))
+}
+
+/// One Integer or Boolean (0/1) value of an instance.
+pub(crate) fn get_discrete(
+    inst: &mut fmi_import::Instance,
+    kind: Discrete,
+    vr: u32,
+) -> Result<i32, String> {
+    match kind {
+        Discrete::Integer => {
+            let mut v = [0];
+            inst.get_integer(&[vr], &mut v).map_err(|e| e.to_string())?;
+            Ok(v[0])
+        }
+        Discrete::Boolean => {
+            let mut v = [false];
+            inst.get_boolean(&[vr], &mut v).map_err(|e| e.to_string())?;
+            Ok(i32::from(v[0]))
+        }
     }
-    Ok(v)
+}
+
+/// Set one Integer or Boolean (0/1) input of an instance.
+pub(crate) fn set_discrete(
+    inst: &mut fmi_import::Instance,
+    kind: Discrete,
+    vr: u32,
+    value: i32,
+) -> Result<(), String> {
+    match kind {
+        Discrete::Integer => inst.set_integer(&[vr], &[value]),
+        Discrete::Boolean => inst.set_boolean(&[vr], &[value != 0]),
+    }
+    .map(drop)
+    .map_err(|e| e.to_string())
 }
 
 /// Load, instantiate and initialise the system's FMUs, apply the parameter bindings and
@@ -340,7 +385,7 @@ fn real_variable<'a>(
 /// settle.
 pub fn wire(
     open: &OpenSystem,
-    sets: &[(String, String, f64)],
+    sets: &[(String, String, String)],
     start: f64,
     stop: f64,
 ) -> Result<Wired, String> {
@@ -371,6 +416,7 @@ pub fn wire(
         instances.push(inst);
     }
     let mut connections = Vec::new();
+    let mut discrete = Vec::new();
     let mut outputs: Vec<Output> = Vec::new();
     for c in &open.ssd.connections {
         let find = |element: &str| {
@@ -379,18 +425,30 @@ pub fn wire(
             })
         };
         let (from, to) = (find(&c.start_element)?, find(&c.end_element)?);
-        let src = real_variable(
+        let (src, src_kind) = connectable_variable(
             fmus[from].model_description(),
             &c.start_element,
             &c.start_connector,
             origin,
         )?;
-        let dst = real_variable(
+        let (dst, dst_kind) = connectable_variable(
             fmus[to].model_description(),
             &c.end_element,
             &c.end_connector,
             origin,
         )?;
+        if src_kind != dst_kind {
+            let name = |k: Option<Discrete>| k.map_or("Real".to_owned(), |k| k.to_string());
+            return Err(format!(
+                "{origin}: connection {}.{} → {}.{}: an {} output cannot feed a {} input",
+                c.start_element,
+                c.start_connector,
+                c.end_element,
+                c.end_connector,
+                name(src_kind),
+                name(dst_kind)
+            ));
+        }
         if src.causality != Causality::Output {
             return Err(format!(
                 "{origin}: connection {}.{} → {}.{}: the start is not an output",
@@ -403,18 +461,29 @@ pub fn wire(
                 c.start_element, c.start_connector, c.end_element, c.end_connector
             ));
         }
-        connections.push(Connection {
-            from,
-            from_vr: src.value_reference,
-            to,
-            to_vr: dst.value_reference,
-        });
         let name = format!("{}.{}", c.start_element, c.start_connector);
+        match src_kind {
+            None => connections.push(Connection {
+                from,
+                from_vr: src.value_reference,
+                to,
+                to_vr: dst.value_reference,
+            }),
+            Some(kind) => discrete.push(DiscreteConnection {
+                kind,
+                from,
+                from_vr: src.value_reference,
+                to,
+                to_vr: dst.value_reference,
+                name: format!("{name} → {}.{}", c.end_element, c.end_connector),
+            }),
+        }
         if !outputs.iter().any(|o| o.name == name) {
             outputs.push(Output {
                 name,
                 participant: from,
                 vr: src.value_reference,
+                kind: src_kind,
             });
         }
     }
@@ -424,43 +493,63 @@ pub fn wire(
         inst.enter_initialization_mode()
             .map_err(|e| e.to_string())?;
     }
-    let mut values: Vec<(usize, String, f64)> = Vec::new();
+    // (component, variable, value as written, where it was written)
+    let mut values: Vec<(usize, &str, &str, String)> = Vec::new();
     for (i, c) in open.ssd.components.iter().enumerate() {
         for (name, text) in &c.parameters {
-            let v = text.parse::<f64>().map_err(|_| {
-                format!(
-                    "{origin}: component \"{}\": parameter {name} = \"{text}\" is not a number",
-                    c.name
-                )
-            })?;
-            values.push((i, name.clone(), v));
+            let at = format!("{origin}: component \"{}\": parameter {name}", c.name);
+            values.push((i, name, text, at));
         }
     }
-    for (component, name, v) in sets {
+    for (component, name, text) in sets {
         let i = *index.get(component).ok_or_else(|| {
             format!("--set {component}.{name}: the system has no component \"{component}\"")
         })?;
-        values.push((i, name.clone(), *v));
+        values.push((i, name, text, format!("--set {component}.{name}")));
     }
-    for (i, name, v) in values {
+    for (i, name, text, at) in values {
         let c = &open.ssd.components[i].name;
-        let var = real_variable(fmus[i].model_description(), c, &name, origin)?;
+        let var = fmus[i]
+            .model_description()
+            .variable(name)
+            .ok_or_else(|| format!("{at}: component \"{c}\" has no variable \"{name}\""))?;
         let settable = var.causality == Causality::Parameter
             && matches!(var.variability, Variability::Fixed | Variability::Tunable)
             || var.causality == Causality::Input;
         if !settable {
             return Err(format!(
-                "{origin}: {c}.{name} is not a parameter or input and cannot be set"
+                "{at}: {c}.{name} is not a parameter or input and cannot be set"
             ));
         }
-        instances[i]
-            .set_real(&[var.value_reference], &[v])
-            .map_err(|e| e.to_string())?;
+        let vr = var.value_reference;
+        let text = text.trim();
+        let refused = |what: &str| format!("{at} = \"{text}\" is not {what}");
+        let inst = &mut instances[i];
+        match var.kind {
+            VariableKind::Real(_) => {
+                let v: f64 = text.parse().map_err(|_| refused("a number"))?;
+                inst.set_real(&[vr], &[v]).map(drop)
+            }
+            VariableKind::Integer(_) | VariableKind::Enumeration(_) => {
+                let v: i32 = text.parse().map_err(|_| refused("an integer"))?;
+                inst.set_integer(&[vr], &[v]).map(drop)
+            }
+            VariableKind::Boolean(_) => {
+                let v = match text {
+                    "true" | "1" => true,
+                    "false" | "0" => false,
+                    _ => return Err(refused("true, false, 1 or 0")),
+                };
+                inst.set_boolean(&[vr], &[v]).map(drop)
+            }
+            VariableKind::String(_) => inst.set_string(&[vr], &[text]).map(drop),
+        }
+        .map_err(|e| format!("{at}: {e}"))?;
     }
     // Inputs start from the outputs they are connected to.
     let mut last: Vec<f64> = Vec::new();
     for _ in 0..50 {
-        let mut now = Vec::with_capacity(connections.len());
+        let mut now = Vec::with_capacity(connections.len() + discrete.len());
         for c in &connections {
             let mut v = [0.0];
             instances[c.from]
@@ -470,6 +559,11 @@ pub fn wire(
                 .set_real(&[c.to_vr], &v)
                 .map_err(|e| e.to_string())?;
             now.push(v[0]);
+        }
+        for c in &discrete {
+            let v = get_discrete(&mut instances[c.from], c.kind, c.from_vr)?;
+            set_discrete(&mut instances[c.to], c.kind, c.to_vr, v)?;
+            now.push(f64::from(v));
         }
         if now == last {
             break;
@@ -490,6 +584,7 @@ pub fn wire(
         system: System {
             participants,
             connections,
+            discrete,
         },
         outputs,
         fmus,

@@ -46,7 +46,7 @@ fn system(dir: &Path, coupling: &str) -> PathBuf {
         );
         std::fs::create_dir_all(&sys).unwrap();
         std::fs::copy(dir.join("fmus/bridge.fmu"), sys.join("bridge.fmu")).unwrap();
-        let vehicle = build_fmu(&Variant::sprung_mass("sprung_mass"));
+        let vehicle = build_fmu(&Variant::model("sprung_mass", "sprung_mass"));
         std::fs::copy(vehicle, sys.join("vehicle.fmu")).unwrap();
     }
     let connector = |name: &str, kind: &str| {

@@ -230,6 +230,22 @@ fn coupling_bad_systems_are_rejected() {
 
     let (mut sys, _) = case.system();
     assert!(advance(scheme.as_mut(), &mut sys, 0.0, 0.0, OnNonConvergence::Stop).is_err());
+
+    // Integer and Boolean values are not iterated: the implicit scheme refuses them
+    let (mut sys, _) = case.system();
+    sys.discrete.push(tbi::coupling::DiscreteConnection {
+        kind: tbi::coupling::Discrete::Boolean,
+        from: 1,
+        from_vr: 7,
+        to: 0,
+        to_vr: 8,
+        name: "train.flag → bridge.flag".into(),
+    });
+    let err = scheme.initialize(&mut sys).unwrap_err().to_string();
+    assert!(
+        err.contains("Real connections only") && err.contains("train.flag → bridge.flag (Boolean)"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -41,6 +41,7 @@ impl CouplingScheme for GaussSeidel {
 
     fn initialize(&mut self, sys: &mut System) -> Result<(), CouplingError> {
         let ex = Exchange::initial(sys)?;
+        sys.pass_discrete(None)?;
         self.groups = ex.groups(ex.feedback_slots.iter().copied());
         self.exchange = Some(ex);
         Ok(())
@@ -56,6 +57,9 @@ impl CouplingScheme for GaussSeidel {
         for p in 0..sys.participants.len() {
             // Slots of participants q < p already hold their outputs at t + h.
             ex.write_inputs(sys, p, None)?;
+            // Integer and Boolean inputs from the sources' current values, with the same
+            // timing as the Real ones.
+            sys.pass_discrete(Some(p))?;
             if do_step(sys, p, t, h)? == StepStatus::Discard {
                 return Err(discard_error(sys, "gauss-seidel", p, t, h));
             }

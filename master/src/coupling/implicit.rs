@@ -151,6 +151,16 @@ impl Implicit {
     }
 
     fn bind(&mut self, sys: &System) -> Result<(), CouplingError> {
+        if let Some(c) = sys.discrete.first() {
+            return Err(CouplingError::new(format!(
+                "the implicit scheme iterates Real connections only, and the system has {} \
+                 Integer/Boolean connection(s), e.g. {} ({}); use the gauss-seidel or jacobi \
+                 scheme",
+                sys.discrete.len(),
+                c.name,
+                c.kind
+            )));
+        }
         let ex = Exchange::new(sys)?;
         self.acceleration.initialize(ex.unknowns());
         let n_blocks;

@@ -40,6 +40,7 @@ impl CouplingScheme for Jacobi {
 
     fn initialize(&mut self, sys: &mut System) -> Result<(), CouplingError> {
         let ex = Exchange::initial(sys)?;
+        sys.pass_discrete(None)?;
         self.groups = ex.groups(0..ex.slots());
         self.exchange = Some(ex);
         Ok(())
@@ -53,6 +54,7 @@ impl CouplingScheme for Jacobi {
         ex.read_all(sys)?;
         self.lagged.clone_from(&ex.values);
         ex.write_all(sys)?;
+        sys.pass_discrete(None)?;
         for p in 0..sys.participants.len() {
             if do_step(sys, p, t, h)? == StepStatus::Discard {
                 return Err(discard_error(sys, "jacobi", p, t, h));

@@ -72,4 +72,6 @@ pub use implicit::{Implicit, Predictor};
 pub use jacobi::Jacobi;
 pub use scheme::{restore_all, CouplingScheme, StepReport};
 pub use stats::CouplingStatistics;
-pub use system::{Connection, CouplingError, Participant, StepStatus, System};
+pub use system::{
+    Connection, CouplingError, Discrete, DiscreteConnection, Participant, StepStatus, System,
+};

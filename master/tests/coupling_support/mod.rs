@@ -544,10 +544,7 @@ impl Case {
                 to_vr: j,
             });
         }
-        let sys = System {
-            participants: vec![Box::new(bridge), Box::new(train)],
-            connections,
-        };
+        let sys = System::new(vec![Box::new(bridge), Box::new(train)], connections);
         (sys, [pb, pt])
     }
 

@@ -1,5 +1,5 @@
 //! Building the C test FMUs (tests/c-fmu: `<model>.c` with its description `<model>.xml`;
-//! the oscillator, and the sprung-mass vehicle) in variants and packaging them with
+//! the oscillator, the sprung-mass vehicle, the Integer/Boolean counter) in variants and packaging them with
 //! `tbi::package::write_fmu` (needs master's internals, so it stays here). Running `tbi`,
 //! scratch folders, FMPy and the CSV comparison are in the shared `tbi_tests` library.
 #![allow(dead_code)]
@@ -34,10 +34,10 @@ impl Variant {
             gain: Some("1.0\n".into()),
         }
     }
-    /// The sprung-mass vehicle FMU (no resources).
-    pub fn sprung_mass(name: &str) -> Self {
+    /// Another model of tests/c-fmu (`sprung_mass`, `counter`), which reads no resources.
+    pub fn model(model: &'static str, name: &str) -> Self {
         Self {
-            model: "sprung_mass",
+            model,
             gain: None,
             ..Self::new(name)
         }
