@@ -438,9 +438,13 @@ pub fn wire(
             origin,
         )?;
         if src_kind != dst_kind {
-            let name = |k: Option<Discrete>| k.map_or("Real".to_owned(), |k| k.to_string());
+            let name = |k: Option<Discrete>| match k {
+                None => "a Real",
+                Some(Discrete::Integer) => "an Integer",
+                Some(Discrete::Boolean) => "a Boolean",
+            };
             return Err(format!(
-                "{origin}: connection {}.{} → {}.{}: an {} output cannot feed a {} input",
+                "{origin}: connection {}.{} → {}.{}: {} output cannot feed {} input",
                 c.start_element,
                 c.start_connector,
                 c.end_element,

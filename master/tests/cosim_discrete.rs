@@ -217,3 +217,56 @@ fn integer_and_boolean_connections_follow_each_explicit_scheme() {
         "{err}"
     );
 }
+
+#[test]
+fn type_mismatches_and_bindings_to_outputs_are_refused() {
+    let dir = scratch("discrete-bad");
+    let ssd = system(&dir);
+    let good = std::fs::read_to_string(&ssd).unwrap();
+    let binding = r#"<ssd:Component name="B" type="application/x-fmu-sharedlibrary" source="counter.fmu"><ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="p"><ssv:Parameters><ssv:Parameter name="n_out"><ssv:Integer value="4"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#;
+    let cases = [
+        (
+            "integer-to-real",
+            r#"startElement="A" startConnector="n_out" endElement="B" endConnector="n_in""#,
+            r#"startElement="A" startConnector="n_out" endElement="B" endConnector="u_in""#,
+            "connection A.n_out → B.u_in: an Integer output cannot feed a Real input",
+        ),
+        (
+            "boolean-to-integer",
+            r#"startElement="B" startConnector="b_out" endElement="A" endConnector="b_in""#,
+            r#"startElement="B" startConnector="b_out" endElement="A" endConnector="n_in""#,
+            "connection B.b_out → A.n_in: a Boolean output cannot feed an Integer input",
+        ),
+        (
+            "binding-to-an-output",
+            r#"<ssd:Component name="B" type="application/x-fmu-sharedlibrary" source="counter.fmu">"#,
+            binding,
+            "B.n_out is not a parameter or input and cannot be set",
+        ),
+    ];
+    for (label, from, to, needle) in cases {
+        assert!(good.contains(from), "{label}");
+        let bad = dir.join(format!("{label}.ssd"));
+        std::fs::write(&bad, good.replacen(from, to, 1)).unwrap();
+        let out = dir.join(format!("{label}.csv"));
+        let r = run(tbi_command()
+            .arg("cosim")
+            .arg(&bad)
+            .args([
+                "--scheme",
+                "jacobi",
+                "--step-size",
+                "0.5",
+                "--quiet",
+                "--output",
+            ])
+            .arg(&out));
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{label}: {err}");
+        assert!(
+            err.contains(&format!("{label}.ssd")) && err.contains(needle),
+            "{label}: expected {needle:?} in {err}"
+        );
+        assert!(!out.exists(), "{label}: a result was written");
+    }
+}
