@@ -26,6 +26,8 @@ pub struct FmuParticipant {
     saved: Option<FmuState>,
     /// Declared unit of each Real variable, by value reference.
     units: HashMap<u32, String>,
+    /// Name of each Real variable, by value reference (for messages).
+    names: HashMap<u32, String>,
 }
 
 impl FmuParticipant {
@@ -41,10 +43,18 @@ impl FmuParticipant {
                 _ => None,
             })
             .collect();
+        let names = fmu
+            .model_description()
+            .model_variables
+            .iter()
+            .filter(|v| matches!(v.kind, VariableKind::Real(_)))
+            .map(|v| (v.value_reference, v.name.clone()))
+            .collect();
         FmuParticipant {
             inst,
             saved: None,
             units,
+            names,
         }
     }
 }
@@ -83,6 +93,9 @@ impl Participant for FmuParticipant {
     }
     fn unit(&self, vr: u32) -> Option<&str> {
         self.units.get(&vr).map(String::as_str)
+    }
+    fn variable_name(&self, vr: u32) -> Option<String> {
+        self.names.get(&vr).cloned()
     }
     fn get_discrete(
         &mut self,

@@ -619,7 +619,8 @@ fn cli_modal_file_matches_analytic_simply_supported() {
 }
 
 /// A co-simulation that stops (plain Gauss–Seidel iteration on the stiff span, policy
-/// "stop") exits non-zero with a message naming the time and the residual, and leaves the
+/// "stop") exits non-zero with a message naming the time, the residual and the connection
+/// that changed most, and leaves the
 /// rows up to the failure in history.csv and a summary.json with status "failed".
 ///
 /// (`max_iterations = 1` cannot show partial rows: the first step has no predictor history,
@@ -646,6 +647,13 @@ fn cli_failed_cosim_leaves_partial_results() {
     assert!(residual > 1.0, "residual {residual}");
     assert!(
         r.stderr.contains("did not converge") && r.stderr.contains(&out.display().to_string()),
+        "stderr:\n{}",
+        r.stderr
+    );
+    // and the connection whose value changed most in the last sweep, by name
+    assert!(
+        r.stderr.contains("the largest change is in train.ws[")
+            || r.stderr.contains("the largest change is in bridge.ws["),
         "stderr:\n{}",
         r.stderr
     );

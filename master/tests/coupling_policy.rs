@@ -358,6 +358,7 @@ fn coupling_statistics_count_steps_and_iterations() {
             residual,
             converged,
             discarded_by: None,
+            diagnosis: None,
         },
     };
     let mut stats = CouplingStatistics::new();

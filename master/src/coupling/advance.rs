@@ -142,8 +142,13 @@ fn failure(scheme: &str, t: f64, h: f64, r: &StepReport) -> String {
         ),
         None => format!(
             "coupling step t = {t} s, h = {h} s ({scheme}) did not converge: residual {:.3e} \
-             (weighted RMS, converged when ≤ 1) after {} iterations",
-            r.residual, r.iterations
+             (weighted RMS, converged when ≤ 1) after {} iterations{}",
+            r.residual,
+            r.iterations,
+            r.diagnosis
+                .as_deref()
+                .map(|d| format!("; {d}"))
+                .unwrap_or_default()
         ),
     }
 }

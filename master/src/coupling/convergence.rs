@@ -115,6 +115,19 @@ impl WeightedRms {
         self.evaluate_grouped(x, x_tilde, of, max)
     }
 
+    /// The value with the largest weighted change in [`WeightedRms::evaluate_in`] (call that
+    /// first: it uses the group maxima it left), and that weighted change.
+    pub fn worst_in(&self, x: &[f64], x_tilde: &[f64], groups: &Groups) -> Option<(usize, f64)> {
+        x.iter()
+            .zip(x_tilde)
+            .enumerate()
+            .map(|(i, (&xi, &ti))| {
+                let m = groups.max[groups.of[i]];
+                (i, ((ti - xi) / (self.rtol * m + self.atol)).abs())
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
     /// The interface defect of an explicit step: `x` the values the lagged inputs used
     /// (outputs at `t`), `x̃` the outputs they stand for (at `t + h`), each difference
     /// measured against the largest magnitude its group has had so far in the run (`x` and

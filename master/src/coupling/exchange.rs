@@ -201,6 +201,16 @@ impl Exchange {
         (0..self.participants).try_for_each(|p| self.write_inputs(sys, p, None))
     }
 
+    /// `participant.variable` (or `participant vr N`) of the source of interface unknown `u`.
+    pub fn unknown_name(&self, sys: &System, u: usize) -> String {
+        let (p, vr) = self.slot_source[self.feedback_slots[u]];
+        let part = &sys.participants[p];
+        match part.variable_name(vr) {
+            Some(v) => format!("{}.{v}", part.name()),
+            None => format!("{} vr {vr}", part.name()),
+        }
+    }
+
     /// Number of slots (distinct connected outputs).
     pub fn slots(&self) -> usize {
         self.slot_source.len()

@@ -73,6 +73,7 @@ impl CouplingScheme for GaussSeidel {
                 .evaluate_lag(&self.lagged, &self.fresh, &mut self.groups),
             converged: true,
             discarded_by: None,
+            diagnosis: None,
         })
     }
 }

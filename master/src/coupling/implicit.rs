@@ -241,7 +241,9 @@ impl CouplingScheme for Implicit {
             residual: f64::INFINITY,
             converged: false,
             discarded_by: None,
+            diagnosis: None,
         };
+        let mut breakdown = false;
         for k in 0..self.max_iterations {
             if k > 0 {
                 restore_all(sys)?;
@@ -284,9 +286,30 @@ impl CouplingScheme for Implicit {
                 .perform(&self.x, &self.x_tilde, &self.scale, &mut self.next);
             if !self.next.iter().all(|v| v.is_finite()) {
                 // The acceleration broke down; report the last sweep as not converged.
+                breakdown = true;
                 break;
             }
             std::mem::swap(&mut self.x, &mut self.next);
+        }
+        if !report.converged {
+            let worst = self.measure.worst_in(&self.x, &self.x_tilde, &self.groups);
+            let mut text = match worst {
+                Some((u, e)) => format!(
+                    "the largest change is in {} (value {:.6e}, change {:.3e}, {e:.3e} times \
+                     its tolerance)",
+                    ex.unknown_name(sys, u),
+                    self.x_tilde[u],
+                    self.x_tilde[u] - self.x[u]
+                ),
+                None => String::new(),
+            };
+            if breakdown {
+                text.push_str(&format!(
+                    "; the {} update broke down (non-finite values)",
+                    self.acceleration.name()
+                ));
+            }
+            report.diagnosis = Some(text);
         }
         self.acceleration.end_step(report.converged);
         if report.converged {

@@ -69,6 +69,7 @@ impl CouplingScheme for Jacobi {
                 .evaluate_lag(&self.lagged, &self.fresh, &mut self.groups),
             converged: true,
             discarded_by: None,
+            diagnosis: None,
         })
     }
 }

@@ -19,6 +19,9 @@ pub struct StepReport {
     /// The participant that answered `do_step` with [`StepStatus::Discard`]. The step did not
     /// complete and must be retried from `t` or abandoned, never accepted.
     pub discarded_by: Option<String>,
+    /// When the step did not converge: where the last sweep changed most (the connection's
+    /// source, its value and change) and whether the acceleration broke down.
+    pub diagnosis: Option<String>,
 }
 
 /// One co-simulation master algorithm (MasterSim: a master algorithm; preCICE: a coupling

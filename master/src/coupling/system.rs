@@ -50,6 +50,10 @@ pub trait Participant {
     fn unit(&self, _vr: u32) -> Option<&str> {
         None
     }
+    /// The name of variable `vr`, for messages. Default: none known.
+    fn variable_name(&self, _vr: u32) -> Option<String> {
+        None
+    }
     /// Read Integer or Boolean (as 0/1) variables, for [`DiscreteConnection`]s. Default: the
     /// participant has none.
     fn get_discrete(
