@@ -197,6 +197,11 @@ impl Block {
             .collect()
     }
 
+    /// Every value reference of the block, in order.
+    pub fn all_vrs(&self) -> Vec<u32> {
+        (0..self.len() as u32).map(|o| self.vr0 + o).collect()
+    }
+
     /// The block's variables in value-reference order; `describe(i, channel)` gives the
     /// description, `start(i, k)` the start value.
     pub fn variables(

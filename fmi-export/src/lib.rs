@@ -37,6 +37,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod api;
+pub mod dependencies;
 pub mod export;
 pub mod guid;
 pub mod instance;

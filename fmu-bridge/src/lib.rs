@@ -50,6 +50,51 @@ struct Saved {
 }
 
 impl BridgeFmu {
+    /// The dependencies `<ModelStructure>` declares ([`fmi_export::dependencies`]), probed
+    /// at a generic operating point: every wheelset on the deck at distinct positions, with
+    /// distinct non-zero speeds and forces. In initialisation mode the deck is at rest and
+    /// its acceleration follows from all loads; at a communication point the rail motion
+    /// under a wheelset depends on that wheelset's position (and speed, through the
+    /// irregularity), and nothing depends on the forces until the next step.
+    pub fn dependencies(
+        res: &BridgeResources,
+        track: Arc<dyn RailProfile>,
+    ) -> Result<fmi_export::dependencies::Declared, String> {
+        use fmi_export::dependencies::{probe, Declared};
+        let mut m = BridgeFmu::from_parts(res.clone(), track, String::new());
+        let l = m.layout.clone();
+        let n = l.n_wheelsets().max(1) as f64;
+        let (a, b) = (res.modal.x_start_m, res.modal.x_end_m);
+        let knowns = l.wheel_in.all_vrs();
+        let mut outputs = l.rail_out.all_vrs();
+        outputs.extend(l.probe_out.all_vrs());
+        let set = |m: &mut BridgeFmu, phase| -> Result<(), String> {
+            for w in 0..l.n_wheelsets() {
+                let s = 1.0 + 0.1 * w as f64;
+                let x = a + (b - a) * (w as f64 + 0.37) / n;
+                for (k, v) in [x, 20.0 * s, 1.1e3 * s, 2.3e2 * s, 8.7e4 * s]
+                    .iter()
+                    .enumerate()
+                {
+                    m.set_real(l.wheel_in.vr(w, k), *v, phase)?;
+                }
+            }
+            Ok(())
+        };
+        // small against the spacing of the wheelsets and the deck's end
+        let delta = |_: u32, v: f64| 1e-4 * (1.0 + v.abs());
+        set(&mut m, Phase::Initialization)?;
+        let initial = probe(&mut m, &knowns, &outputs, Phase::Initialization, delta)?;
+        m.exit_initialization()?;
+        m.do_step(0.0, 1e-3)?;
+        set(&mut m, Phase::Stepping)?;
+        let stepping = probe(&mut m, &knowns, &outputs, Phase::Stepping, delta)?;
+        Ok(Declared {
+            outputs: outputs.iter().copied().zip(stepping).collect(),
+            initial: outputs.iter().copied().zip(initial).collect(),
+        })
+    }
+
     /// Build from resource data (used by `instantiate` and by tests).
     pub fn from_parts(res: BridgeResources, track: Arc<dyn RailProfile>, guid: String) -> Self {
         let layout = BridgeLayout::of(&res);

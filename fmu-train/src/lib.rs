@@ -17,7 +17,7 @@ pub mod layout;
 
 use layout::{parameters, TrainLayout, TrainVar};
 use tbi_dynamics::interface::{
-    rail_channel, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
+    rail_channel, wheel, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::VehicleState;
@@ -58,6 +58,92 @@ struct Saved {
 }
 
 impl TrainFmu {
+    /// The dependencies `<ModelStructure>` declares ([`fmi_export::dependencies`]).
+    ///
+    /// * `<Outputs>`: probed at a generic operating point (distinct non-zero rail motion
+    ///   under every wheelset): at a communication point the outputs are those of the state
+    ///   reached by the last step and depend on no input.
+    /// * `<InitialUnknowns>`: each vehicle starts in equilibrium on the rails under its own
+    ///   wheelsets, so the outputs of its wheelsets and body depend on those rails and on
+    ///   the parameters, declared as that block (a superset: some of its entries are exact
+    ///   zeros, such as the body acceleration in equilibrium, which a probe can only see as
+    ///   rounding); a wheelset's position and speed depend on the parameters only (probed).
+    pub fn dependencies(
+        res: &TrainResources,
+    ) -> Result<fmi_export::dependencies::Declared, String> {
+        use fmi_export::dependencies::{probe, Declared};
+        let mut m = TrainFmu::from_parts(res.clone(), String::new());
+        let l = m.layout.clone();
+        let rails = l.rail_in.all_vrs();
+        let params: Vec<u32> = (0..parameters(res).len() as u32)
+            .map(|j| layout::PARAM_BASE + j)
+            .collect();
+        let mut outputs = l.wheel_out.all_vrs();
+        outputs.extend(l.vehicle_out.all_vrs());
+        let set = |m: &mut TrainFmu, phase| -> Result<(), String> {
+            for (i, &vr) in rails.iter().enumerate() {
+                let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+                m.set_real(vr, sign * 1e-3 * (1.0 + 0.013 * i as f64), phase)?;
+            }
+            Ok(())
+        };
+        let seed = layout::PARAM_BASE + 4;
+        let delta = |vr: u32, v: f64| {
+            if vr == seed {
+                1.0
+            } else {
+                1e-4 * (1.0 + v.abs())
+            }
+        };
+        // initialisation: positions and speeds probed (hunting on, so that all its
+        // parameters show), everything else the vehicle block
+        set(&mut m, Phase::Initialization)?;
+        let amplitude = layout::PARAM_BASE + 2;
+        if m.get_real(amplitude)? == 0.0 {
+            m.set_real(amplitude, 1e-3, Phase::Initialization)?;
+        }
+        let kinematic = l.wheel_out.vrs(&[wheel::X, wheel::VX]);
+        let probed = probe(&mut m, &params, &kinematic, Phase::Initialization, delta)?;
+        let vehicle_of: Vec<usize> = res
+            .build(0.0)?
+            .wheelsets()
+            .iter()
+            .map(|w| w.vehicle)
+            .collect();
+        let block = |vehicle: usize| -> Vec<u32> {
+            let mut d: Vec<u32> = (0..l.n_wheelsets())
+                .filter(|&w| vehicle_of[w] == vehicle)
+                .flat_map(|w| (0..l.rail_in.width()).map(move |k| (w, k)))
+                .map(|(w, k)| l.rail_in.vr(w, k))
+                .collect();
+            d.extend(&params);
+            d
+        };
+        let initial = outputs
+            .iter()
+            .map(|&vr| {
+                if let Some(p) = kinematic.iter().position(|&k| k == vr) {
+                    return (vr, probed[p].clone());
+                }
+                let vehicle = l
+                    .wheel_out
+                    .decode(vr)
+                    .map(|(w, _)| vehicle_of[w])
+                    .or_else(|| l.vehicle_out.decode(vr).map(|(i, _)| i))
+                    .expect("an output of the wheelset or vehicle block");
+                (vr, block(vehicle))
+            })
+            .collect();
+        m.exit_initialization()?;
+        m.do_step(0.0, 1e-3)?;
+        set(&mut m, Phase::Stepping)?;
+        let stepping = probe(&mut m, &rails, &outputs, Phase::Stepping, delta)?;
+        Ok(Declared {
+            outputs: outputs.iter().copied().zip(stepping).collect(),
+            initial,
+        })
+    }
+
     /// Build from resource data (used by `instantiate` and by tests).
     pub fn from_parts(res: TrainResources, guid: String) -> Self {
         let layout = TrainLayout::of(&res);

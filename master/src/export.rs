@@ -11,12 +11,15 @@
 use crate::coupling::CouplingConfig;
 use crate::model::Model;
 use crate::package::write_fmu;
+use fmi_export::dependencies::Declared;
 use fmu_bridge::layout::BridgeLayout;
 use fmu_train::layout::TrainLayout;
 use model_description::builder::{ModelDescriptionBuilder, RealBuilder};
 use model_description::{
-    Causality as MdCausality, DefaultExperiment, Initial, Variability, VariableNamingConvention,
+    Causality as MdCausality, DefaultExperiment, DependencyKind, Initial, ModelDescription,
+    Unknown, Variability, VariableNamingConvention,
 };
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use tbi_dynamics::interface::{
     BridgeResources, Causality, ProbeSpec, TrainResources, Var, BRIDGE_ID, BRIDGE_RESOURCE,
@@ -132,6 +135,7 @@ fn description_xml(
     guid: &str,
     what: &str,
     vars: &[Var],
+    declared: &Declared,
     stop: f64,
     step: f64,
 ) -> Result<String, String> {
@@ -167,10 +171,43 @@ fn description_xml(
     for v in vars {
         b = b.real(real_var(v));
     }
-    let md = b
+    let mut md = b
         .build()
         .map_err(|e| format!("{id} model description: {e}"))?;
+    declare_dependencies(&mut md, declared);
+    let problems = md.validate();
+    if !problems.is_empty() {
+        return Err(format!(
+            "{id} model description with dependencies: {}",
+            problems.join("; ")
+        ));
+    }
     Ok(md.to_xml_string())
+}
+
+/// Write the probed dependencies into `<Outputs>` and `<InitialUnknowns>` (every kind
+/// `dependent`: the FMUs are not linear in all their knowns, e.g. the wheelset positions).
+fn declare_dependencies(md: &mut ModelDescription, declared: &Declared) {
+    let index: HashMap<u32, u32> = md
+        .model_variables
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (v.value_reference, i as u32 + 1))
+        .collect();
+    let apply = |unknowns: &mut Vec<Unknown>, list: &[(u32, Vec<u32>)]| {
+        let by_index: HashMap<u32, &Vec<u32>> =
+            list.iter().map(|(vr, deps)| (index[vr], deps)).collect();
+        for u in unknowns.iter_mut() {
+            if let Some(deps) = by_index.get(&u.index) {
+                let mut d: Vec<u32> = deps.iter().map(|vr| index[vr]).collect();
+                d.sort_unstable();
+                u.dependencies_kind = Some(vec![DependencyKind::Dependent; d.len()]);
+                u.dependencies = Some(d);
+            }
+        }
+    };
+    apply(&mut md.model_structure.outputs, &declared.outputs);
+    apply(&mut md.model_structure.initial_unknowns, &declared.initial);
 }
 
 const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow the pattern <code>ws[i].name</code> (wheelset i, 1-based), SI units; y right, z down, roll about x right side down. Inputs set before fmi2DoStep(t, h) are the values at t + h: an implicit (iterating) master reproduces the monolithic solution, a plain fixed-step master sees a one-step lag. Each fmi2DoStep is one Newmark (average acceleration) step of size h.</p></body></html>";
@@ -237,6 +274,7 @@ pub fn export_with(
             &bridge_guid,
             what,
             &bridge_layout.variables(&bridge_res),
+            &fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _)?,
             stop,
             model.dt,
         )?;
@@ -263,6 +301,7 @@ pub fn export_with(
             &train_guid,
             what,
             &train_layout.variables(&train_res),
+            &fmu_train::TrainFmu::dependencies(&train_res)?,
             stop,
             model.dt,
         )?;
