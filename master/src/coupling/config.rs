@@ -2,7 +2,7 @@
 //!
 //! ```toml
 //! scheme = "implicit"          # "implicit" | "gauss-seidel" | "jacobi"
-//! acceleration = "iqn-ils"     # "aitken" | "iqn-ils" | "constant"
+//! acceleration = "iqn-ils"     # "aitken" | "iqn-ils" | "newton" | "constant"
 //! relaxation = 0.5
 //! rtol = 1e-10
 //! atol = 1e-12
@@ -17,7 +17,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer};
 
-use super::acceleration::{Acceleration, Aitken, ConstantRelaxation, IqnIls};
+use super::acceleration::{Acceleration, Aitken, ConstantRelaxation, IqnIls, Newton};
 use super::advance::OnNonConvergence;
 use super::convergence::WeightedRms;
 use super::gauss_seidel::GaussSeidel;
@@ -46,6 +46,8 @@ pub enum AccelerationKind {
     Aitken,
     /// [`IqnIls`] quasi-Newton.
     IqnIls,
+    /// [`Newton`] with finite-difference interface Jacobians.
+    Newton,
     /// [`ConstantRelaxation`].
     Constant,
 }
@@ -114,6 +116,7 @@ keywords!(SchemeKind, "scheme", {
 keywords!(AccelerationKind, "acceleration", {
     Aitken => "aitken",
     IqnIls => "iqn-ils",
+    Newton => "newton",
     Constant => "constant",
 });
 keywords!(Predictor, "predictor", {
@@ -306,6 +309,7 @@ pub fn build_acceleration(config: &CouplingConfig) -> Box<dyn Acceleration> {
         AccelerationKind::Constant => Box::new(ConstantRelaxation::new(config.relaxation)),
         AccelerationKind::Aitken => Box::new(Aitken::new(config.relaxation)),
         AccelerationKind::IqnIls => Box::new(IqnIls::new(config.relaxation, config.reuse_steps)),
+        AccelerationKind::Newton => Box::new(Newton::new()),
     }
 }
 

@@ -47,6 +47,11 @@ impl Groups {
         }
     }
 
+    /// The group of each value.
+    pub fn of(&self) -> &[usize] {
+        &self.of
+    }
+
     /// Number of values grouped.
     pub fn len(&self) -> usize {
         self.of.len()

@@ -10,24 +10,24 @@ use super::system::{CouplingError, System};
 
 /// Where an input takes its value from.
 #[derive(Debug, Clone, Copy)]
-struct Route {
-    slot: usize,
+pub(super) struct Route {
+    pub(super) slot: usize,
     /// Index into the interface unknowns when the connection is a feedback connection.
-    unknown: Option<usize>,
+    pub(super) unknown: Option<usize>,
 }
 
 /// The connection topology of a [`System`] compiled into per-participant batches.
 #[derive(Debug, Clone)]
 pub(crate) struct Exchange {
     /// Output value references read from each participant, and the slot each one fills.
-    out_vrs: Vec<Vec<u32>>,
-    out_slots: Vec<Vec<usize>>,
+    pub(super) out_vrs: Vec<Vec<u32>>,
+    pub(super) out_slots: Vec<Vec<usize>>,
     /// Input value references written to each participant, and where each takes its value.
-    in_vrs: Vec<Vec<u32>>,
-    in_routes: Vec<Vec<Route>>,
+    pub(super) in_vrs: Vec<Vec<u32>>,
+    pub(super) in_routes: Vec<Vec<Route>>,
     /// Source `(participant, output vr)` of each slot, and the source output's declared unit.
-    slot_source: Vec<(usize, u32)>,
-    slot_unit: Vec<Option<String>>,
+    pub(super) slot_source: Vec<(usize, u32)>,
+    pub(super) slot_unit: Vec<Option<String>>,
     /// Current value of each slot.
     pub values: Vec<f64>,
     /// Slot of each interface unknown (distinct feedback sources).

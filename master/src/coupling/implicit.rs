@@ -270,6 +270,11 @@ impl CouplingScheme for Implicit {
             if k + 1 == self.max_iterations {
                 break;
             }
+            if k == 0 && self.acceleration.needs_jacobian() {
+                // leaves the participants at probed states: the next sweep restores them
+                let j = ex.step_jacobian(sys, t, h, &self.x)?;
+                self.acceleration.set_jacobian(j);
+            }
             if k == 0 {
                 record_magnitudes(&self.block_of, &mut self.block_max, &self.x_tilde);
                 let WeightedRms { rtol, atol } = self.measure;

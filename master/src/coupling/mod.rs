@@ -57,6 +57,7 @@ mod exchange;
 pub mod gauss_seidel;
 pub mod implicit;
 pub mod jacobi;
+pub mod jacobian;
 pub mod scheme;
 pub mod stats;
 pub mod system;
@@ -70,7 +71,7 @@ pub use convergence::WeightedRms;
 pub use gauss_seidel::GaussSeidel;
 pub use implicit::{Implicit, Predictor};
 pub use jacobi::Jacobi;
-pub use scheme::{restore_all, CouplingScheme, StepReport};
+pub use scheme::{restore_all, save_all, CouplingScheme, StepReport};
 pub use stats::CouplingStatistics;
 pub use system::{
     Connection, CouplingError, Discrete, DiscreteConnection, Participant, StepStatus, System,

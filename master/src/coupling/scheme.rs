@@ -61,7 +61,7 @@ pub(crate) fn do_step(
 }
 
 /// Saves the state of every participant into its rollback slot.
-pub(crate) fn save_all(sys: &mut System) -> Result<(), CouplingError> {
+pub fn save_all(sys: &mut System) -> Result<(), CouplingError> {
     for part in sys.participants.iter_mut() {
         part.save_state()
             .map_err(|e| CouplingError::new(format!("{}: save_state failed: {e}", part.name())))?;

@@ -9,6 +9,7 @@
 //! | [`ConstantRelaxation`] | `xₖ₊₁ = xₖ + ω rₖ` |
 //! | [`Aitken`] | `xₖ₊₁ = xₖ + ωₖ rₖ`, `ωₖ = −ωₖ₋₁ (rₖ₋₁ᵀ D² Δrₖ) / ‖D Δrₖ‖²`, `Δrₖ = rₖ − rₖ₋₁` |
 //! | [`IqnIls`] | `xₖ₊₁ = x̃ₖ + W c`, `c = argmin ‖D (V c + rₖ)‖₂` |
+//! | [`Newton`] | `xₖ₊₁ = xₖ + (I − J)⁻¹ rₖ`, `J = ∂H/∂x` by finite differences through rollback |
 //!
 //! `D = diag(sᵢ)` is a per-variable scaling, positive and constant within a step, that makes
 //! variables of very different magnitude (forces ~1e5 N next to displacements ~1e-3 m)
@@ -22,10 +23,12 @@
 mod aitken;
 mod constant;
 mod iqn_ils;
+mod newton;
 
 pub use aitken::Aitken;
 pub use constant::ConstantRelaxation;
 pub use iqn_ils::{filtered_least_squares, IqnIls};
+pub use newton::Newton;
 
 /// One acceleration method for the interface iteration.
 pub trait Acceleration {
@@ -46,6 +49,16 @@ pub trait Acceleration {
 
     /// The step ends; `converged` tells whether the convergence criterion was met.
     fn end_step(&mut self, converged: bool);
+
+    /// Whether the next [`Acceleration::perform`] needs the interface Jacobian `J = ∂H/∂x`
+    /// of this step; the implicit scheme then computes it after the first sweep and hands it
+    /// over with [`Acceleration::set_jacobian`]. Default: never.
+    fn needs_jacobian(&self) -> bool {
+        false
+    }
+
+    /// `J = ∂H/∂x` (n × n) of the current step. Default: ignored.
+    fn set_jacobian(&mut self, _j: nalgebra::DMatrix<f64>) {}
 }
 
 /// `Σ (sᵢ aᵢ)(sᵢ bᵢ)`.
