@@ -107,6 +107,14 @@ impl<M: FmuModel> Instance<M> {
         self.logger.log(Status::Ok, LOG_EVENTS, message);
     }
 
+    /// [`Instance::event`] with the message formatted only when it will be delivered (the
+    /// state is saved and restored at every iteration of an implicit master).
+    fn event_with(&self, message: impl FnOnce() -> String) {
+        if self.logger.filter.delivers(Status::Ok, LOG_EVENTS) {
+            self.event(&message());
+        }
+    }
+
     fn identity(&self) -> Identity {
         Identity::new(self.model_identifier, &self.guid)
     }
@@ -382,16 +390,18 @@ impl<M: FmuModel> Instance<M> {
     pub(crate) fn snapshot_into(&self, snap: &mut Snapshot<M>) {
         snap.frame = self.frame;
         snap.model.clone_from(&self.model);
-        self.event(&format!("FMU state saved at t = {}", self.frame.time));
+        self.event_with(|| format!("FMU state saved at t = {}", self.frame.time));
     }
 
     pub(crate) fn restore(&mut self, snap: &Snapshot<M>) {
         self.frame = snap.frame;
         self.model.clone_from(&snap.model);
-        self.event(&format!(
-            "FMU state restored: t = {}, state {}",
-            self.frame.time, self.frame.state
-        ));
+        self.event_with(|| {
+            format!(
+                "FMU state restored: t = {}, state {}",
+                self.frame.time, self.frame.state
+            )
+        });
     }
 
     pub(crate) fn serialize(&self, snap: &Snapshot<M>) -> Vec<u8> {

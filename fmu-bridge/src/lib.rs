@@ -30,7 +30,6 @@ pub fn guid_for(resource_bytes: &[u8]) -> String {
 }
 
 /// The bridge FMU's model.
-#[derive(Clone)]
 pub struct BridgeFmu {
     res: Arc<BridgeResources>,
     layout: Arc<BridgeLayout>,
@@ -40,6 +39,33 @@ pub struct BridgeFmu {
     initialized: bool,
     outputs: Vec<f64>,
     dirty: bool,
+}
+
+impl Clone for BridgeFmu {
+    fn clone(&self) -> Self {
+        BridgeFmu {
+            res: self.res.clone(),
+            layout: self.layout.clone(),
+            guid: self.guid.clone(),
+            side: self.side.clone(),
+            inputs: self.inputs.clone(),
+            initialized: self.initialized,
+            outputs: self.outputs.clone(),
+            dirty: self.dirty,
+        }
+    }
+
+    /// Reuses this model's allocations: a rollback copies the modal state and the inputs.
+    fn clone_from(&mut self, source: &Self) {
+        self.res.clone_from(&source.res);
+        self.layout.clone_from(&source.layout);
+        self.guid.clone_from(&source.guid);
+        self.side.clone_from(&source.side);
+        self.inputs.clone_from(&source.inputs);
+        self.initialized = source.initialized;
+        self.outputs.clone_from(&source.outputs);
+        self.dirty = source.dirty;
+    }
 }
 
 #[derive(Serialize, Deserialize)]

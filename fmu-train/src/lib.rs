@@ -30,10 +30,10 @@ pub fn guid_for(resource_bytes: &[u8]) -> String {
 }
 
 /// The train FMU's model.
-#[derive(Clone)]
 pub struct TrainFmu {
     original: Arc<TrainResources>,
-    res: TrainResources,
+    /// The resources with the parameters set so far (copied on a parameter's write).
+    res: Arc<TrainResources>,
     guid: String,
     layout: Arc<TrainLayout>,
     start_time: f64,
@@ -44,6 +44,37 @@ pub struct TrainFmu {
     initialized: bool,
     outputs: Vec<f64>,
     dirty: bool,
+}
+
+impl Clone for TrainFmu {
+    fn clone(&self) -> Self {
+        TrainFmu {
+            original: self.original.clone(),
+            res: self.res.clone(),
+            guid: self.guid.clone(),
+            layout: self.layout.clone(),
+            start_time: self.start_time,
+            rails: self.rails.clone(),
+            side: self.side.clone(),
+            initialized: self.initialized,
+            outputs: self.outputs.clone(),
+            dirty: self.dirty,
+        }
+    }
+
+    /// Reuses this model's allocations: a rollback copies the state, not the train.
+    fn clone_from(&mut self, source: &Self) {
+        self.original.clone_from(&source.original);
+        self.res.clone_from(&source.res);
+        self.guid.clone_from(&source.guid);
+        self.layout.clone_from(&source.layout);
+        self.start_time = source.start_time;
+        self.rails.clone_from(&source.rails);
+        self.side.clone_from(&source.side);
+        self.initialized = source.initialized;
+        self.outputs.clone_from(&source.outputs);
+        self.dirty = source.dirty;
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -149,7 +180,7 @@ impl TrainFmu {
         let layout = TrainLayout::of(&res);
         TrainFmu {
             original: Arc::new(res.clone()),
-            res,
+            res: Arc::new(res),
             guid,
             start_time: 0.0,
             rails: vec![[Vector3::zeros(); 3]; layout.n_wheelsets()],
@@ -220,25 +251,26 @@ impl TrainFmu {
             .get(index)
             .ok_or_else(|| format!("unknown parameter index {index}"))?
             .name;
+        let res = Arc::make_mut(&mut self.res);
         match index {
             0 => {
-                self.res.speed_m_s =
+                res.speed_m_s =
                     Speed::from_m_s(value).map_err(|e| format!("parameter speed = {value}: {e}"))?
             }
-            1 => self.res.x0_m = value,
-            2 => self.res.hunting.amplitude_m = value,
-            3 => self.res.hunting.wavelength_m = value,
+            1 => res.x0_m = value,
+            2 => res.hunting.amplitude_m = value,
+            3 => res.hunting.wavelength_m = value,
             4 => {
                 if value < 0.0 || value.fract() != 0.0 || value > 9.0e15 {
                     return Err(format!(
                         "parameter hunting.seed = {value} must be a non-negative integer"
                     ));
                 }
-                self.res.hunting.seed = value as u64
+                res.hunting.seed = value as u64
             }
             _ => {
                 let field = name.trim_start_matches("coach.").to_string();
-                match &mut self.res.spec {
+                match &mut res.spec {
                     TrainSpec::Coaches { params, .. } => {
                         *params
                             .field_mut(&field)
@@ -348,7 +380,7 @@ impl FmuModel for TrainFmu {
 
     fn serialize_state(&self) -> Vec<u8> {
         serde_json::to_vec(&Saved {
-            res: self.res.clone(),
+            res: (*self.res).clone(),
             start_time: self.start_time,
             rails: self.rails.clone(),
             initialized: self.initialized,
@@ -364,7 +396,7 @@ impl FmuModel for TrainFmu {
         if s.rails.len() != self.layout.n_wheelsets() {
             return Err("train state does not match this FMU's size".into());
         }
-        self.res = s.res;
+        self.res = Arc::new(s.res);
         self.start_time = s.start_time;
         self.rails = s.rails;
         self.initialized = s.initialized;

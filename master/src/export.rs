@@ -510,10 +510,18 @@ fn write_ssp(
     );
     let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut z = zip::ZipWriter::new(file);
-    let opts = zip::write::SimpleFileOptions::default()
+    // The FMUs are zip archives already: stored, not compressed a second time (which
+    // would cost time on every export and unpack and save nothing).
+    let deflated = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated);
+    let stored = deflated.compression_method(zip::CompressionMethod::Stored);
     let mut add = |name: &str, bytes: &[u8]| -> Result<(), String> {
         use std::io::Write;
+        let opts = if name.ends_with(".fmu") {
+            stored
+        } else {
+            deflated
+        };
         z.start_file(name, opts)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         z.write_all(bytes)

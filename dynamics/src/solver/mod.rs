@@ -15,11 +15,36 @@ use serde::{Deserialize, Serialize};
 pub use monolithic::Monolithic;
 
 /// Displacement, velocity and acceleration of a vehicle's free DOFs.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Serialize, Deserialize)]
 pub struct VehicleState {
     pub v: DVector<f64>,
     pub vd: DVector<f64>,
     pub vdd: DVector<f64>,
+}
+
+impl Clone for VehicleState {
+    fn clone(&self) -> Self {
+        VehicleState {
+            v: self.v.clone(),
+            vd: self.vd.clone(),
+            vdd: self.vdd.clone(),
+        }
+    }
+
+    /// Copies into the existing vectors when the sizes agree.
+    fn clone_from(&mut self, source: &Self) {
+        for (to, from) in [
+            (&mut self.v, &source.v),
+            (&mut self.vd, &source.vd),
+            (&mut self.vdd, &source.vdd),
+        ] {
+            if to.len() == from.len() {
+                to.copy_from(from);
+            } else {
+                *to = from.clone();
+            }
+        }
+    }
 }
 
 impl VehicleState {

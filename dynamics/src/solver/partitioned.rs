@@ -66,15 +66,32 @@ impl ProbeValues {
 }
 
 /// Dynamic state of the modal bridge.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Default, Serialize, Deserialize)]
 pub struct ModalState {
     pub q: Vec<f64>,
     pub qd: Vec<f64>,
     pub qdd: Vec<f64>,
 }
 
+impl Clone for ModalState {
+    fn clone(&self) -> Self {
+        ModalState {
+            q: self.q.clone(),
+            qd: self.qd.clone(),
+            qdd: self.qdd.clone(),
+        }
+    }
+
+    /// Reuses the vectors' allocations.
+    fn clone_from(&mut self, source: &Self) {
+        self.q.clone_from(&source.q);
+        self.qd.clone_from(&source.qd);
+        self.qdd.clone_from(&source.qdd);
+    }
+}
+
 /// The bridge with its track (see the module docs).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct BridgeSide {
     pub bridge: Arc<ModalBridge>,
     pub track: Arc<dyn RailProfile>,
@@ -85,6 +102,31 @@ pub struct BridgeSide {
     /// Rail shapes at recent positions, shared by clones (it holds derived data only, keyed
     /// by position, so a restored state may use it too).
     cache: Arc<Mutex<ShapeCache>>,
+}
+
+impl Clone for BridgeSide {
+    fn clone(&self) -> Self {
+        BridgeSide {
+            bridge: self.bridge.clone(),
+            track: self.track.clone(),
+            state: self.state.clone(),
+            omega: self.omega.clone(),
+            zeta: self.zeta.clone(),
+            scratch: self.scratch.clone(),
+            cache: self.cache.clone(),
+        }
+    }
+
+    /// Reuses this side's allocations (the rollback of an FMU copies the modal state).
+    fn clone_from(&mut self, source: &Self) {
+        self.bridge.clone_from(&source.bridge);
+        self.track.clone_from(&source.track);
+        self.state.clone_from(&source.state);
+        self.omega.clone_from(&source.omega);
+        self.zeta.clone_from(&source.zeta);
+        self.scratch.clone_from(&source.scratch);
+        self.cache.clone_from(&source.cache);
+    }
 }
 
 impl BridgeSide {
@@ -189,7 +231,7 @@ struct Factor {
 }
 
 /// The train (see the module docs).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct TrainSide {
     pub train: Arc<Train>,
     pub wheelsets: Vec<WheelsetRef>,
@@ -198,7 +240,35 @@ pub struct TrainSide {
     pub rails: Vec<[Vector3<f64>; 3]>,
     /// Current time, s.
     pub t: f64,
-    factors: Vec<Factor>,
+    /// Newmark factors per vehicle (derived from the model and h only; shared by clones,
+    /// copied on the rare write).
+    factors: Arc<Vec<Factor>>,
+    /// Scratch vectors of a step per vehicle (vₚ, v̇ₚ, a), sized to its DOFs.
+    work: Vec<[DVector<f64>; 3]>,
+}
+
+impl Clone for TrainSide {
+    fn clone(&self) -> Self {
+        TrainSide {
+            train: self.train.clone(),
+            wheelsets: self.wheelsets.clone(),
+            states: self.states.clone(),
+            rails: self.rails.clone(),
+            t: self.t,
+            factors: self.factors.clone(),
+            work: self.work.clone(),
+        }
+    }
+
+    /// Reuses this side's allocations (the rollback of an FMU copies states, not models).
+    fn clone_from(&mut self, source: &Self) {
+        self.train.clone_from(&source.train);
+        self.wheelsets.clone_from(&source.wheelsets);
+        self.states.clone_from(&source.states);
+        self.rails.clone_from(&source.rails);
+        self.t = source.t;
+        self.factors.clone_from(&source.factors);
+    }
 }
 
 impl TrainSide {
@@ -216,14 +286,22 @@ impl TrainSide {
                     )
                 })
                 .collect(),
-            factors: vec![
+            factors: Arc::new(vec![
                 Factor {
                     h: f64::NAN,
                     chol: None
                 };
                 train.vehicles.len()
-            ],
+            ]),
             rails: vec![[Vector3::zeros(); 3]; nw],
+            work: train
+                .vehicles
+                .iter()
+                .map(|tv| {
+                    let n = tv.model.ndof();
+                    [DVector::zeros(n), DVector::zeros(n), DVector::zeros(n)]
+                })
+                .collect(),
             wheelsets,
             train,
             t: 0.0,
@@ -263,9 +341,9 @@ impl TrainSide {
     pub fn step(&mut self, h: f64, rails: &[[Vector3<f64>; 3]]) {
         let t1 = self.t + h;
         let nm = Newmark::new(h);
-        self.rails = (0..rails.len())
-            .map(|w| self.with_hunting(w, t1, &rails[w]))
-            .collect();
+        for w in 0..rails.len() {
+            self.rails[w] = self.with_hunting(w, t1, &rails[w]);
+        }
         let mut first = 0;
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let model: &LinearVehicle = &tv.model;
@@ -273,7 +351,7 @@ impl TrainSide {
             if model.ndof() > 0 {
                 if self.factors[i].h != h {
                     let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
-                    self.factors[i] = Factor {
+                    Arc::make_mut(&mut self.factors)[i] = Factor {
                         h,
                         chol: Some(
                             khat.cholesky()
@@ -284,21 +362,32 @@ impl TrainSide {
                 // Solved for the new acceleration (see BridgeSide::step):
                 // (M + h/2 C + h²/4 K) v̈₁ = F₁ − C v̇ₚ − K vₚ, and M + h/2 C + h²/4 K is
                 // h²/4 times the factorised a0 M + a1 C + K.
+                // In place, without temporaries: vₚ = v + h v̇ + h²/4 v̈, v̇ₚ = v̇ + h/2 v̈,
+                // a = a0 (−C v̇ₚ − K vₚ − Σ (K_vw u + C_vw u̇)) solved with the factor, then
+                // v = vₚ + h²/4 a, v̇ = v̇ₚ + h/2 a, v̈ = a.
                 let s = &mut self.states[i];
-                let vp = &s.v + h * &s.vd + (0.25 * h * h) * &s.vdd;
-                let vdp = &s.vd + (0.5 * h) * &s.vdd;
-                let mut rhs = -(&model.c * &vdp) - &model.k * &vp;
+                let [vp, vdp, a] = &mut self.work[i];
+                vp.copy_from(&s.v);
+                vp.axpy(h, &s.vd, 1.0);
+                vp.axpy(0.25 * h * h, &s.vdd, 1.0);
+                vdp.copy_from(&s.vd);
+                vdp.axpy(0.5 * h, &s.vdd, 1.0);
+                a.gemv(-nm.a0, &model.c, vdp, 0.0);
+                a.gemv(-nm.a0, &model.k, vp, 1.0);
                 for (c, r) in model.wheelsets.iter().zip(&self.rails[first..first + nw]) {
-                    rhs -= &c.k_vw * r[0] + &c.c_vw * r[1];
+                    a.gemv(-nm.a0, &c.k_vw, &r[0], 1.0);
+                    a.gemv(-nm.a0, &c.c_vw, &r[1], 1.0);
                 }
-                let a: DVector<f64> = self.factors[i]
+                self.factors[i]
                     .chol
                     .as_ref()
                     .expect("factor set above")
-                    .solve(&(nm.a0 * rhs));
-                s.v = vp + (0.25 * h * h) * &a;
-                s.vd = vdp + (0.5 * h) * &a;
-                s.vdd = a;
+                    .solve_mut(a);
+                s.v.copy_from(vp);
+                s.v.axpy(0.25 * h * h, a, 1.0);
+                s.vd.copy_from(vdp);
+                s.vd.axpy(0.5 * h, a, 1.0);
+                s.vdd.copy_from(a);
             }
             first += nw;
         }
