@@ -5,8 +5,18 @@
 //!    70 km/h with dt = 0.005 s: wall time, steps per second, simulated/wall time.
 //! 2. The same case by implicit co-simulation of the two FMUs: wall time over the
 //!    monolithic wall time.
-//! 3. The Tsing Ma finite-element model: assembly plus the lowest 50 modes.
-//! 4. The four-speed sweep of the embedded Tsing Ma case (20, 40, 70, 120 km/h).
+//! 3. The scale case: the same bridge with 200 modes under 32 coaches (128 wheelsets), both
+//!    solvers, simulated/wall time.
+//! 4. Cost growth: seconds of wall time per simulated second for modes 20/50/100/200 ×
+//!    coaches 1/8/32, both solvers (the bench case at 300 km/h, so each run is short).
+//! 5. The Tsing Ma finite-element model: assembly plus the lowest 50 modes.
+//! 6. The four-speed sweep of the embedded Tsing Ma case (20, 40, 70, 120 km/h).
+//!
+//! `--quick` runs 1 and 2 only. `--json FILE` writes every figure measured under the stable
+//! names `monolithic_realtime_factor`, `cosim_realtime_factor`, `cosim_over_monolithic`,
+//! `cosim_iterations_per_step`, `scale_monolithic_realtime_factor`,
+//! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
+//! per simulated second), `fe_modes_50_s`, `sweep_tsing_ma_4_speeds_s`.
 
 use crate::run::run_scenario;
 use crate::scenario::Scenario;
@@ -20,9 +30,12 @@ pub struct BenchArgs {
     /// Scratch folder for the runs.
     #[arg(long, default_value = "tbi-out/bench")]
     pub out: PathBuf,
-    /// Skip the Tsing Ma parts (FE modes and the four-speed sweep).
+    /// Only the bench case (skip the scale case, the growth table and the Tsing Ma parts).
     #[arg(long)]
     pub quick: bool,
+    /// Also write every figure as JSON (stable names, see `tbi bench` docs).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
 }
 
 /// The benchmark scenario (see the module docs).
@@ -72,10 +85,34 @@ fn timed(s: &Scenario, out: &Path) -> Result<(f64, Summary), Box<dyn std::error:
     Ok((t.elapsed().as_secs_f64(), summary))
 }
 
+/// The bench scenario with `modes` modes, `coaches` coaches at `speed_kmh`.
+fn variant(modes: usize, coaches: usize, speed_kmh: f64) -> Result<Scenario, Box<dyn std::error::Error>> {
+    let text = BENCH_SCENARIO
+        .replace("modes = 20", &format!("modes = {modes}"))
+        .replace("vehicles = 8", &format!("vehicles = {coaches}"))
+        .replace("speed_kmh = 70.0", &format!("speed_kmh = {speed_kmh:?}"));
+    Ok(Scenario::from_toml(&text, "<bench scenario>", Path::new("."))?)
+}
+
+/// Wall seconds and simulated seconds of `s` with `solver`.
+fn measure(
+    s: &Scenario,
+    solver: crate::scenario::SolverKind,
+    out: &Path,
+) -> Result<(f64, f64, Summary), Box<dyn std::error::Error>> {
+    let mut s = s.clone();
+    s.run.solver = solver;
+    let sim = crate::model::build(&s)?.t_end();
+    let (wall, summary) = timed(&s, out)?;
+    Ok((wall, sim, summary))
+}
+
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut s = Scenario::from_toml(BENCH_SCENARIO, "<bench scenario>", Path::new("."))?;
     let sim_time = crate::model::build(&s)?.t_end();
+    let mut figures = serde_json::Map::new();
     let (mono_wall, mono) = timed(&s, &args.out.join("monolithic"))?;
+    figures.insert("monolithic_realtime_factor".into(), (sim_time / mono_wall).into());
     let steps = mono.steps as f64;
     println!("monolithic: 8 coaches, 2000 m bridge, 20 modes, 70 km/h, dt 0.005 s");
     println!(
@@ -95,8 +132,52 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         coupling.iterations_mean,
         co_wall / mono_wall
     );
+    figures.insert("cosim_realtime_factor".into(), (sim_time / co_wall).into());
+    figures.insert("cosim_over_monolithic".into(), (co_wall / mono_wall).into());
+    figures.insert(
+        "cosim_iterations_per_step".into(),
+        coupling.iterations_mean.into(),
+    );
+    if !args.quick {
+        use crate::scenario::SolverKind::{Cosim, Monolithic};
+        let scale = variant(200, 32, 70.0)?;
+        let (mw, ms, _) = measure(&scale, Monolithic, &args.out.join("scale-monolithic"))?;
+        let (cw, cs, _) = measure(&scale, Cosim, &args.out.join("scale-cosim"))?;
+        println!(
+            "scale case (200 modes, 32 coaches = 128 wheelsets): simulated/wall monolithic {:.1}, co-simulation {:.1}",
+            ms / mw,
+            cs / cw
+        );
+        figures.insert("scale_monolithic_realtime_factor".into(), (ms / mw).into());
+        figures.insert("scale_cosim_realtime_factor".into(), (cs / cw).into());
+        println!("cost growth at 300 km/h, wall s per simulated s:");
+        println!("  modes  coaches  monolithic  co-simulation");
+        let mut growth = Vec::new();
+        for modes in [20, 50, 100, 200] {
+            for coaches in [1, 8, 32] {
+                let v = variant(modes, coaches, 300.0)?;
+                let dir = args.out.join(format!("growth-{modes}-{coaches}"));
+                let (mw, ms, _) = measure(&v, Monolithic, &dir.join("monolithic"))?;
+                let (cw, cs, _) = measure(&v, Cosim, &dir.join("cosim"))?;
+                println!(
+                    "  {modes:>5}  {coaches:>7}  {:>10.4}  {:>13.4}",
+                    mw / ms,
+                    cw / cs
+                );
+                for (solver, per) in [("monolithic", mw / ms), ("cosim", cw / cs)] {
+                    growth.push(serde_json::json!({
+                        "modes": modes,
+                        "coaches": coaches,
+                        "solver": solver,
+                        "wall_s_per_simulated_s": per,
+                    }));
+                }
+            }
+        }
+        figures.insert("growth".into(), growth.into());
+    }
     if args.quick {
-        return Ok(());
+        return write_figures(&args, figures);
     }
     let t = Instant::now();
     let params = crate::suspension::preset_params(crate::scenario::SuspensionPreset::TsingMa);
@@ -105,6 +186,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     fe.modes(50).map_err(|e| e.to_string())?;
     let fe_total = t.elapsed().as_secs_f64();
     println!("Tsing Ma FE model: assembly {assembled:.3} s, assembly + 50 modes {fe_total:.2} s");
+    figures.insert("fe_modes_50_s".into(), fe_total.into());
     let t = Instant::now();
     crate::sweep::main(crate::sweep::SweepArgs {
         scenario: None,
@@ -113,9 +195,22 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         out: args.out.join("sweep"),
         allow_large: false,
     })?;
-    println!(
-        "Tsing Ma four-speed sweep (co-simulation, in parallel): {:.1} s",
-        t.elapsed().as_secs_f64()
-    );
+    let sweep = t.elapsed().as_secs_f64();
+    println!("Tsing Ma four-speed sweep (co-simulation, in parallel): {sweep:.1} s");
+    figures.insert("sweep_tsing_ma_4_speeds_s".into(), sweep.into());
+    write_figures(&args, figures)
+}
+
+fn write_figures(
+    args: &BenchArgs,
+    figures: serde_json::Map<String, serde_json::Value>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    if let Some(path) = &args.json {
+        crate::outdir::write_atomically(
+            path,
+            serde_json::to_string_pretty(&serde_json::Value::Object(figures))?.as_bytes(),
+        )?;
+        println!("figures in {}", path.display());
+    }
     Ok(())
 }
