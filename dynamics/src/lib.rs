@@ -20,6 +20,7 @@ pub mod bridge;
 pub mod error {
     pub use tbi_modes::error::*;
 }
+pub mod hslm;
 pub mod interface;
 pub mod newmark;
 pub mod response;

@@ -86,12 +86,20 @@ fn timed(s: &Scenario, out: &Path) -> Result<(f64, Summary), Box<dyn std::error:
 }
 
 /// The bench scenario with `modes` modes, `coaches` coaches at `speed_kmh`.
-fn variant(modes: usize, coaches: usize, speed_kmh: f64) -> Result<Scenario, Box<dyn std::error::Error>> {
+fn variant(
+    modes: usize,
+    coaches: usize,
+    speed_kmh: f64,
+) -> Result<Scenario, Box<dyn std::error::Error>> {
     let text = BENCH_SCENARIO
         .replace("modes = 20", &format!("modes = {modes}"))
         .replace("vehicles = 8", &format!("vehicles = {coaches}"))
         .replace("speed_kmh = 70.0", &format!("speed_kmh = {speed_kmh:?}"));
-    Ok(Scenario::from_toml(&text, "<bench scenario>", Path::new("."))?)
+    Ok(Scenario::from_toml(
+        &text,
+        "<bench scenario>",
+        Path::new("."),
+    )?)
 }
 
 /// Wall seconds and simulated seconds of `s` with `solver`.
@@ -112,7 +120,10 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let sim_time = crate::model::build(&s)?.t_end();
     let mut figures = serde_json::Map::new();
     let (mono_wall, mono) = timed(&s, &args.out.join("monolithic"))?;
-    figures.insert("monolithic_realtime_factor".into(), (sim_time / mono_wall).into());
+    figures.insert(
+        "monolithic_realtime_factor".into(),
+        (sim_time / mono_wall).into(),
+    );
     let steps = mono.steps as f64;
     println!("monolithic: 8 coaches, 2000 m bridge, 20 modes, 70 km/h, dt 0.005 s");
     println!(
@@ -190,7 +201,8 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let t = Instant::now();
     crate::sweep::main(crate::sweep::SweepArgs {
         scenario: None,
-        speeds: vec![20.0, 40.0, 70.0, 120.0],
+        speeds: ["20", "40", "70", "120"].map(String::from).to_vec(),
+        trains: Vec::new(),
         solver: None,
         out: args.out.join("sweep"),
         allow_large: false,

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod cosim;
 pub mod cosim_cmd;
 pub mod coupling;
+pub mod envelope;
 pub mod export;
 pub mod interrupt;
 pub mod model;

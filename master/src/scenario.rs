@@ -20,7 +20,7 @@
 //! track_eccentricity_m = 0.0   # e, track offset from the shear centre (+y), m
 //! track_height_m = 0.0         # h4, wheelset reference above the shear centre, m
 //! [train]
-//! kind = "sprung_mass"         # or "moving_force", "coach_27dof"
+//! kind = "sprung_mass"         # or "moving_force", "coach_27dof", "hslm_a" (name = "A1")
 //! axles = [{ offset_m = 0.0, sprung_mass_kg = 5750.0, stiffness_n_m = 1.595e6, damping_ns_m = 0.0 }]
 //! # coach_27dof: preset = "xia2000", vehicles = 8, coach = { k1v_n_m = ... } overrides
 //! # hunting = { amplitude_m = 0.003, wavelength_m = 15.0, seed = 1 }
@@ -426,6 +426,8 @@ fn default_modes() -> usize {
 #[serde(deny_unknown_fields)]
 struct FileTrain {
     kind: String,
+    /// `kind = "hslm_a"`: the train's name, `A1` … `A10`.
+    name: Option<String>,
     #[serde(default)]
     axles: Vec<toml::Table>,
     preset: Option<String>,
@@ -742,6 +744,7 @@ impl Check<'_> {
             ("preset", t.preset.is_some()),
             ("vehicles", t.vehicles.is_some()),
             ("coach", t.coach.is_some()),
+            ("name", t.name.is_some()),
         ] {
             if set {
                 return Err(self.err(
@@ -799,6 +802,13 @@ impl Check<'_> {
                 },
             )?)),
             "coach_27dof" => {
+                if t.name.is_some() {
+                    return Err(self.err(
+                        "train.name",
+                        "(set)",
+                        "does not apply to kind \"coach_27dof\"",
+                    ));
+                }
                 if !t.axles.is_empty() {
                     return Err(self.err(
                         "train.axles",
@@ -837,10 +847,33 @@ impl Check<'_> {
                 self.at_most("train.vehicles", count, limits::VEHICLES)?;
                 Ok(TrainSpec::Coaches { params, count })
             }
+            "hslm_a" => {
+                for (name, set) in [
+                    ("axles", !t.axles.is_empty()),
+                    ("preset", t.preset.is_some()),
+                    ("vehicles", t.vehicles.is_some()),
+                    ("coach", t.coach.is_some()),
+                ] {
+                    if set {
+                        return Err(self.err(
+                            &format!("train.{name}"),
+                            "(set)",
+                            "does not apply to kind \"hslm_a\" (give name = \"A1\" … \"A10\")",
+                        ));
+                    }
+                }
+                let name = t.name.as_deref().ok_or_else(|| {
+                    self.err("train.name", "(missing)", "kind \"hslm_a\" needs name = \"A1\" … \"A10\"")
+                })?;
+                Ok(TrainSpec::MovingForce(
+                    tbi_dynamics::hslm::hslm_a(name)
+                        .map_err(|e| self.err("train.name", format!("\"{name}\""), &e))?,
+                ))
+            }
             other => Err(self.err(
                 "train.kind",
                 format!("\"{other}\""),
-                "unknown kind; expected \"moving_force\", \"sprung_mass\" or \"coach_27dof\"",
+                "unknown kind; expected \"moving_force\", \"sprung_mass\", \"coach_27dof\" or \"hslm_a\"",
             )),
         }
     }

@@ -1,5 +1,12 @@
-//! `tbi sweep`: one scenario at several speeds, run in parallel, summarised in the layout of
-//! the paper's Table 2 (maximum responses of bridge and vehicles) beside the paper's values.
+//! `tbi sweep`: one scenario at several speeds (a list, or `start:stop:step` in km/h), run
+//! in parallel on every core.
+//!
+//! * Without `--trains`: summarised in the layout of the paper's Table 2 (maximum responses of
+//!   bridge and vehicles) beside the paper's values (`table.md`, `table.csv`).
+//! * With `--trains hslm-a` (the ten EN 1991-2 HSLM-A trains) or a list such as `A1,A4`: every
+//!   train at every speed as moving forces on the scenario's bridge, with one progress bar;
+//!   `envelope.csv` has one row per train and speed (the largest deck vertical acceleration
+//!   and displacement over the probes), and the governing train and speed are printed.
 
 use crate::run::run_scenario;
 use crate::summary::Summary;
@@ -13,9 +20,12 @@ use tbi_dynamics::response::ProbeMax;
 pub struct SweepArgs {
     /// Scenario file (TOML). Default: the embedded Tsing Ma case.
     pub scenario: Option<PathBuf>,
-    /// Speeds, km/h, comma separated.
+    /// Speeds, km/h: comma separated, or `start:stop:step` (stop included).
     #[arg(long, default_value = "20,40,70,120", value_delimiter = ',')]
-    pub speeds: Vec<f64>,
+    pub speeds: Vec<String>,
+    /// Trains replacing the scenario's: `hslm-a` (A1–A10) or names such as `A1,A4`.
+    #[arg(long, value_delimiter = ',')]
+    pub trains: Vec<String>,
     /// Solver (default: the scenario's).
     #[arg(long)]
     pub solver: Option<String>,
@@ -95,14 +105,56 @@ pub const TABLE2: [Row; 8] = [
     },
 ];
 
-pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
-    if args.speeds.is_empty() {
+/// The speeds of `--speeds`: numbers, or `start:stop:step` ranges (stop included when it
+/// is a whole number of steps from the start, to 1e-9 of a step).
+pub fn parse_speeds(items: &[String]) -> Result<Vec<f64>, String> {
+    let number = |t: &str| -> Result<f64, String> {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("--speeds: \"{}\" is not a number", t.trim()))
+    };
+    let mut speeds = Vec::new();
+    for item in items {
+        let parts: Vec<&str> = item.split(':').collect();
+        match parts.as_slice() {
+            [v] => speeds.push(number(v)?),
+            [a, b, c] => {
+                let (start, stop, step) = (number(a)?, number(b)?, number(c)?);
+                if step <= 0.0 || stop < start {
+                    return Err(format!(
+                        "--speeds {item}: expected start:stop:step with stop ≥ start and step > 0"
+                    ));
+                }
+                let n = ((stop - start) / step + 1e-9).floor();
+                if n > 100_000.0 {
+                    return Err(format!("--speeds {item}: {n} speeds, more than 100000"));
+                }
+                speeds.extend((0..=n as usize).map(|k| start + k as f64 * step));
+            }
+            _ => {
+                return Err(format!(
+                    "--speeds {item}: expected a number or start:stop:step"
+                ))
+            }
+        }
+    }
+    if speeds.is_empty() {
         return Err("--speeds: give at least one speed".into());
     }
+    Ok(speeds)
+}
+
+pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let speeds = parse_speeds(&args.speeds)?;
     let base = crate::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)?;
-    let mut cases = Vec::with_capacity(args.speeds.len());
-    for (i, &v) in args.speeds.iter().enumerate() {
-        if args.speeds[..i].contains(&v) {
+    if !args.trains.is_empty() {
+        return crate::envelope::main(&args, &base, &speeds);
+    }
+    let mut cases = Vec::with_capacity(speeds.len());
+    for (i, &v) in speeds.iter().enumerate() {
+        if speeds[..i].contains(&v) {
             return Err(format!("--speeds: {} km/h is given twice", crate::model::num(v)).into());
         }
         let mut s = base.clone();
@@ -128,7 +180,7 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     for r in results {
         summaries.push(r?);
     }
-    let (md, csv) = tables(&args.speeds, &summaries);
+    let (md, csv) = tables(&speeds, &summaries);
     std::fs::write(args.out.join("table.md"), &md)?;
     std::fs::write(args.out.join("table.csv"), &csv)?;
     println!("{md}");

@@ -1,0 +1,173 @@
+//! `tbi sweep --trains`: the EN 1991-2 HSLM-A trains over a speed range on a 25 m simply
+//! supported span (f₁ ≈ 5 Hz, 1 % damping), as a bridge engineer runs the dynamic check.
+//!
+//! * The peak deck acceleration over 200–420 km/h occurs at the first resonance speed of the
+//!   closed form v = f₁ D (D the coach length; f₁ = π/(2L²) √(EI/m) from the section).
+//! * A row of `envelope.csv` equals `tbi run` of the same span with the train typed in as
+//!   `moving_force` axles, built here from the standard's spacings (3, 11, 3, 3.525, d,
+//!   D − 1.5d − 1.7625, then d, D − d per coach, and the mirror) independently of the
+//!   tool's positions.
+//! * `--trains hslm-a` runs all ten; bad trains and speed ranges are refused by name.
+
+use std::path::{Path, PathBuf};
+use tbi_tests::{read_summary, run, run_ok, scratch, tbi_command, text};
+
+const SPAN: &str = r#"name = "span-25m"
+[run]
+speed_kmh = 300.0
+dt_s = 0.001
+solver = "monolithic"
+free_vibration_s = 0.5
+output_every = 10
+[bridge]
+kind = "simply_supported"
+span_m = 25.0
+youngs_modulus_pa = 3.5e10
+inertia_vertical_m4 = 1.696
+mass_per_length_kg_m = 15000.0
+modes = 3
+damping_ratio = 0.01
+[train]
+kind = "hslm_a"
+name = "A1"
+[track]
+irregularity = "none"
+[[probe]]
+name = "mid"
+x_m = 12.5
+"#;
+
+fn scenario(dir: &Path, text: &str) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let p = dir.join("span.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// (train, speed km/h, acceleration m/s², displacement m) rows of envelope.csv.
+fn envelope(path: &Path) -> Vec<(String, f64, f64, f64)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m"
+    );
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let n = |i: usize| f[i].parse::<f64>().unwrap();
+            (f[0].to_owned(), n(1), n(2), n(3))
+        })
+        .collect()
+}
+
+#[test]
+fn hslm_a1_peaks_at_the_resonance_speed_and_equals_its_axles_typed_in() {
+    let dir = scratch("sweep-hslm");
+    let s = scenario(&dir, SPAN);
+    run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args(["--speeds", "200:420:5", "--trains", "A1", "--out"])
+            .arg(dir.join("sweep")),
+    );
+    let rows = envelope(&dir.join("sweep/envelope.csv"));
+    assert_eq!(rows.len(), 45, "200, 205, …, 420 km/h");
+    let peak = rows.iter().max_by(|a, b| a.2.total_cmp(&b.2)).unwrap();
+    // closed forms: f₁ of the span, resonance v = f₁ D
+    let (l, ei, m): (f64, f64, f64) = (25.0, 3.5e10 * 1.696, 15000.0);
+    let f1 = std::f64::consts::PI / (2.0 * l * l) * (ei / m).sqrt();
+    let resonance_kmh = f1 * 18.0 * 3.6;
+    println!(
+        "peak deck acceleration {:.3} m/s² at {} km/h; resonance v = f₁ D = {resonance_kmh:.1} km/h",
+        peak.2, peak.1
+    );
+    assert!(
+        (peak.1 - resonance_kmh).abs() <= 0.02 * resonance_kmh,
+        "peak at {} km/h, resonance {resonance_kmh} km/h",
+        peak.1
+    );
+    // well above the response away from resonance
+    let off = rows.iter().find(|r| r.1 == 250.0).unwrap();
+    assert!(peak.2 > 3.0 * off.2, "{} vs {} at 250 km/h", peak.2, off.2);
+
+    // the same case with the axles typed in from the standard's spacings
+    let (n, d_coach, d) = (18, 18.0, 2.0);
+    let mut spacings = vec![3.0, 11.0, 3.0, 3.525, d, d_coach - 1.5 * d - 1.7625];
+    for _ in 0..n {
+        spacings.extend([d, d_coach - d]);
+    }
+    spacings.extend([d, d_coach - 1.5 * d - 1.7625, d, 3.525, 3.0, 11.0, 3.0]);
+    let mut x = 0.0;
+    let mut axles = vec![format!("{{ offset_m = 0.0, load_n = 170000.0 }}")];
+    for sp in spacings {
+        x += sp;
+        axles.push(format!("{{ offset_m = {x:?}, load_n = 170000.0 }}"));
+    }
+    assert_eq!(axles.len(), 2 * n + 14);
+    let typed = SPAN.replace(
+        "kind = \"hslm_a\"\nname = \"A1\"",
+        &format!("kind = \"moving_force\"\naxles = [{}]", axles.join(", ")),
+    );
+    let t = scenario(&dir.join("typed"), &typed);
+    run_ok(
+        tbi_command()
+            .arg("run")
+            .arg(&t)
+            .args(["--speed-kmh", "300", "--quiet", "--out"])
+            .arg(dir.join("typed/out")),
+    );
+    let summary = read_summary(&dir.join("typed/out"));
+    let a = summary["probes"]["mid"]["vertical_acceleration_max_m_s2"]
+        .as_f64()
+        .unwrap();
+    let row = rows.iter().find(|r| r.1 == 300.0).unwrap();
+    assert!(
+        (a - row.2).abs() <= 1e-9 * a,
+        "typed-in axles {a} m/s², envelope {} m/s²",
+        row.2
+    );
+}
+
+#[test]
+fn all_ten_trains_and_refusals() {
+    let dir = scratch("sweep-hslm-all");
+    let s = scenario(&dir, SPAN);
+    run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args(["--speeds", "300", "--trains", "hslm-a", "--out"])
+            .arg(dir.join("all")),
+    );
+    let rows = envelope(&dir.join("all/envelope.csv"));
+    let names: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+    assert_eq!(
+        names,
+        ["A1", "A2", "A3", "A4", "A5", "A6", "A7", "A8", "A9", "A10"]
+    );
+    assert!(rows.iter().all(|r| r.2 > 0.0 && r.3 > 0.0));
+    for (args, needle) in [
+        (["--speeds", "300", "--trains", "A11"], "--trains A11"),
+        (
+            ["--speeds", "300:200:5", "--trains", "A1"],
+            "--speeds 300:200:5",
+        ),
+        (
+            ["--speeds", "300,300", "--trains", "A1"],
+            "300 km/h is given twice",
+        ),
+    ] {
+        let r = run(tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args(args)
+            .arg("--out")
+            .arg(dir.join("bad")));
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!dir.join("bad/envelope.csv").exists());
+    }
+}
