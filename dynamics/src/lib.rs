@@ -20,6 +20,7 @@ pub mod bridge;
 pub mod error {
     pub use tbi_modes::error::*;
 }
+pub mod en1991;
 pub mod hslm;
 pub mod interface;
 pub mod newmark;

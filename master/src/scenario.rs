@@ -98,6 +98,8 @@ pub struct Scenario {
     pub name: String,
     pub run: Run,
     pub bridge: Bridge,
+    /// The damping rule the bridge's damping ratio came from, if the scenario chose one.
+    pub damping_rule: Option<DampingRule>,
     pub train: Train,
     /// Track irregularity (paths relative to `base_dir`).
     pub track: IrregularitySpec,
@@ -107,6 +109,21 @@ pub struct Scenario {
     pub base_dir: PathBuf,
     /// Where the scenario came from, for messages.
     pub origin: String,
+}
+
+/// `bridge.damping = { rule = "en1991-2", structure = "…", additional = true }`: the damping
+/// ratio of EN 1991-2 Table 6.6 for the span (plus eq. 6.13 for spans under 30 m when
+/// `additional`, the default), used for every mode ([`tbi_dynamics::en1991`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DampingRule {
+    pub rule: String,
+    pub structure: String,
+    /// Table 6.6 lower limit, percent.
+    pub minimum_percent: f64,
+    /// Eq. (6.13) additional damping, percent (0 when not added).
+    pub additional_percent: f64,
+    /// The damping ratio used, –.
+    pub ratio: f64,
 }
 
 /// Which solver runs the scenario.
@@ -313,7 +330,8 @@ impl Scenario {
         let c = Check { origin };
         c.name(&file.name)?;
         let run = c.run(&file.run)?;
-        let bridge = c.bridge(&file.bridge, base_dir)?;
+        let damping_rule = c.damping_rule(&file.bridge)?;
+        let bridge = c.bridge(&file.bridge, damping_rule.as_ref(), base_dir)?;
         let train = c.train(&file.train)?;
         c.probes(&file.probes)?;
         file.coupling
@@ -323,6 +341,7 @@ impl Scenario {
             name: file.name,
             run,
             bridge,
+            damping_rule,
             train,
             track: file.track.irregularity,
             probes: file.probes,
@@ -399,6 +418,7 @@ struct FileBridge {
     #[serde(default)]
     damping_ratio: f64,
     damping_ratio_torsional: Option<f64>,
+    damping: Option<FileDamping>,
     track_eccentricity_m: Option<f64>,
     track_height_m: Option<f64>,
     // simply supported
@@ -420,6 +440,14 @@ struct FileBridge {
 
 fn default_modes() -> usize {
     20
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileDamping {
+    rule: String,
+    structure: String,
+    additional: Option<bool>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -562,15 +590,78 @@ impl Check<'_> {
         })
     }
 
-    fn bridge(&self, b: &FileBridge, base_dir: &Path) -> Result<Bridge, InputError> {
+    /// `bridge.damping`, checked and evaluated for the span.
+    fn damping_rule(&self, b: &FileBridge) -> Result<Option<DampingRule>, InputError> {
+        let Some(d) = &b.damping else {
+            return Ok(None);
+        };
+        if d.rule != "en1991-2" {
+            return Err(self.err(
+                "bridge.damping.rule",
+                format!("\"{}\"", d.rule),
+                "unknown rule; available: \"en1991-2\"",
+            ));
+        }
+        let structure: tbi_dynamics::en1991::Structure =
+            d.structure.parse().map_err(|e: String| {
+                self.err(
+                    "bridge.damping.structure",
+                    format!("\"{}\"", d.structure),
+                    &e,
+                )
+            })?;
+        if b.damping_ratio != 0.0 || b.damping_ratio_torsional.is_some() {
+            return Err(self.err(
+                "bridge.damping_ratio",
+                "(set)",
+                "give either damping_ratio or damping = { rule = … }, not both",
+            ));
+        }
+        let span = match (b.kind.as_str(), b.span_m) {
+            ("simply_supported", Some(l)) if l > 0.0 && l.is_finite() => l,
+            _ => {
+                return Err(self.err(
+                    "bridge.damping",
+                    "(set)",
+                    "the EN 1991-2 rule needs the span: it applies to kind \"simply_supported\" with span_m",
+                ))
+            }
+        };
+        let minimum_percent = structure.minimum_damping_percent(span);
+        let additional_percent = if d.additional.unwrap_or(true) {
+            tbi_dynamics::en1991::additional_damping_percent(span)
+        } else {
+            0.0
+        };
+        Ok(Some(DampingRule {
+            rule: d.rule.clone(),
+            structure: d.structure.clone(),
+            minimum_percent,
+            additional_percent,
+            ratio: (minimum_percent + additional_percent) / 100.0,
+        }))
+    }
+
+    fn bridge(
+        &self,
+        b: &FileBridge,
+        rule: Option<&DampingRule>,
+        base_dir: &Path,
+    ) -> Result<Bridge, InputError> {
         if b.modes == 0 {
             return Err(self.err("bridge.modes", 0, "must be at least 1"));
         }
         self.at_most("bridge.modes", b.modes, limits::MODES)?;
-        let damping_ratio = self.ratio("bridge.damping_ratio", b.damping_ratio)?;
-        let damping_ratio_torsional = match b.damping_ratio_torsional {
-            Some(z) => self.ratio("bridge.damping_ratio_torsional", z)?,
-            None => damping_ratio,
+        let (damping_ratio, damping_ratio_torsional) = match rule {
+            Some(r) => (r.ratio, r.ratio),
+            None => {
+                let z = self.ratio("bridge.damping_ratio", b.damping_ratio)?;
+                let zt = match b.damping_ratio_torsional {
+                    Some(z) => self.ratio("bridge.damping_ratio_torsional", z)?,
+                    None => z,
+                };
+                (z, zt)
+            }
         };
         for (name, v) in [
             ("bridge.track_eccentricity_m", b.track_eccentricity_m),

@@ -44,6 +44,9 @@ pub struct BridgeSummary {
     pub frequencies_hz: Vec<f64>,
     pub labels: Vec<String>,
     pub length_m: f64,
+    /// The damping rule and the ratio it gave, when the scenario chose one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<crate::scenario::DampingRule>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -93,6 +96,7 @@ impl Summary {
                 frequencies_hz: model.bridge.frequencies_hz.clone(),
                 labels: model.bridge.labels.clone(),
                 length_m: model.bridge.length_m(),
+                damping: s.damping_rule.clone(),
             },
             train: TrainSummary {
                 vehicles: model.train.vehicles.len(),

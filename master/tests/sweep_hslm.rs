@@ -171,3 +171,61 @@ fn all_ten_trains_and_refusals() {
         assert!(!dir.join("bad/envelope.csv").exists());
     }
 }
+
+/// `damping = { rule = "en1991-2", … }`: the ratio of Table 6.6 plus eq. (6.13) for the 25 m
+/// span, printed in the summary and used exactly as a `damping_ratio` of that value.
+#[test]
+fn the_en1991_damping_rule_is_applied_and_reported() {
+    let dir = scratch("damping-rule");
+    // Table 6.6, prestressed concrete, L ≥ 20 m: 1.0 %; eq. (6.13) at L = 25 m
+    let l: f64 = 25.0;
+    let extra =
+        (0.0187 * l - 0.00064 * l * l) / (1.0 - 0.0441 * l - 0.0044 * l * l + 0.000255 * l * l * l);
+    let ratio = (1.0 + extra) / 100.0;
+    let ruled = SPAN.replace(
+        "damping_ratio = 0.01",
+        "damping = { rule = \"en1991-2\", structure = \"prestressed_concrete\" }",
+    );
+    let plain = SPAN.replace(
+        "damping_ratio = 0.01",
+        &format!("damping_ratio = {ratio:?}"),
+    );
+    let mut peaks = Vec::new();
+    for (label, text) in [("ruled", &ruled), ("plain", &plain)] {
+        let s = scenario(&dir.join(label), text);
+        run_ok(
+            tbi_command()
+                .arg("run")
+                .arg(&s)
+                .args(["--quiet", "--out"])
+                .arg(dir.join(label).join("out")),
+        );
+        let summary = read_summary(&dir.join(label).join("out"));
+        peaks.push(
+            summary["probes"]["mid"]["vertical_acceleration_max_m_s2"]
+                .as_f64()
+                .unwrap(),
+        );
+        if label == "ruled" {
+            let d = &summary["bridge"]["damping"];
+            assert_eq!(d["structure"], "prestressed_concrete");
+            assert_eq!(d["minimum_percent"].as_f64(), Some(1.0));
+            assert!((d["additional_percent"].as_f64().unwrap() - extra).abs() < 1e-12);
+            assert!((d["ratio"].as_f64().unwrap() - ratio).abs() < 1e-15);
+        } else {
+            assert!(summary["bridge"].get("damping").is_none());
+        }
+    }
+    assert_eq!(peaks[0], peaks[1], "the rule's ratio is the damping used");
+    // refused: both ways at once, an unknown structure
+    for (edit, needle) in [
+        ("damping_ratio = 0.01\ndamping = { rule = \"en1991-2\", structure = \"prestressed_concrete\" }", "bridge.damping_ratio"),
+        ("damping = { rule = \"en1991-2\", structure = \"timber\" }", "bridge.damping.structure"),
+    ] {
+        let s = scenario(&dir.join("bad"), &SPAN.replace("damping_ratio = 0.01", edit));
+        let r = run(tbi_command().arg("run").arg(&s).args(["--quiet", "--out"]).arg(dir.join("bad/out")));
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{err}");
+        assert!(err.contains(needle), "{err}");
+    }
+}
