@@ -203,6 +203,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         scenario: None,
         speeds: ["20", "40", "70", "120"].map(String::from).to_vec(),
         trains: Vec::new(),
+        track: "ballasted".into(),
         solver: None,
         out: args.out.join("sweep"),
         allow_large: false,

@@ -3,8 +3,16 @@
 //!
 //! Each case is the scenario with its train replaced by the named train as moving forces
 //! ([`tbi_dynamics::hslm`]) and its speed set; the runs go to `OUT/<train>/v<speed>`. The
-//! envelope is the largest deck vertical acceleration and displacement over the probes, per
-//! train and speed (`envelope.csv`), and the governing train and speed of each.
+//! envelope (`envelope.csv`, one row per train and speed) has the largest deck vertical
+//! acceleration and displacement over the probes, the largest static displacement of the
+//! train crossing (the modal static response Σₙ φₙ(x_p) Σⱼ Pⱼ ψₙ(xⱼ)/ωₙ² maximised over the
+//! train's positions, with the modes kept) and the dynamic enhancement
+//! φ'dyn = max y_dyn / max y_stat − 1 at the probe where it is largest.
+//!
+//! Checks printed at the end: the deck acceleration against EN 1990 A2.4.4.2.1 (3.5 m/s²
+//! ballasted track, 5 m/s² direct fastening: `--track`), with the governing train and speed,
+//! and whether the modes kept reach max(30 Hz, 1.5 f₁, f₃); the first resonance speeds
+//! v = f₁ D / i (D the coach length of the governing train, i = 1, 2, 3).
 
 use crate::run::run_scenario;
 use crate::scenario::Scenario;
@@ -38,8 +46,43 @@ pub fn train_names(items: &[String]) -> Result<Vec<String>, String> {
 }
 
 /// One case's result: (train, speed km/h, deck vertical acceleration max m/s², deck vertical
-/// displacement max m).
-type Row = (String, f64, f64, f64);
+/// displacement max m, φ'dyn).
+type Row = (String, f64, f64, f64, f64);
+
+/// The largest static deck vertical displacement at `x_probe` of the moving forces `axles`
+/// crossing the bridge (modal static response with the modes kept), over first-axle
+/// positions every `dx` metres.
+pub fn static_displacement_max(
+    bridge: &tbi_dynamics::bridge::ModalBridge,
+    axles: &[tbi_dynamics::vehicle::simple::MovingForceAxle],
+    x_probe: f64,
+    dx: f64,
+) -> f64 {
+    let n = bridge.n_modes();
+    let omega2: Vec<f64> = bridge.omegas().iter().map(|w| w * w).collect();
+    let mut probe = vec![[0.0; 3]; n];
+    bridge.deck_shapes(x_probe, &mut probe);
+    let mut psi = vec![[0.0; 3]; n];
+    let length = axles.iter().map(|a| a.offset_m).fold(0.0, f64::max);
+    let (start, end) = (bridge.x_start_m, bridge.x_end_m + length);
+    let steps = ((end - start) / dx).ceil() as usize;
+    let mut best = 0.0_f64;
+    let mut force = vec![0.0; n];
+    for k in 0..=steps {
+        let head = start + k as f64 * dx;
+        force.iter_mut().for_each(|f| *f = 0.0);
+        for a in axles {
+            if bridge.rail_shapes(head - a.offset_m, &mut psi) {
+                for (f, p) in force.iter_mut().zip(&psi) {
+                    *f += a.load_n * p[2];
+                }
+            }
+        }
+        let y: f64 = (0..n).map(|m| probe[m][1] * force[m] / omega2[m]).sum();
+        best = best.max(y.abs());
+    }
+    best
+}
 
 pub fn main(
     args: &SweepArgs,
@@ -47,6 +90,11 @@ pub fn main(
     speeds: &[f64],
 ) -> Result<(), Box<dyn std::error::Error>> {
     let trains = train_names(&args.trains)?;
+    let (limit, track) = match args.track.as_str() {
+        "ballasted" => (3.5, "ballasted track"),
+        "direct" => (5.0, "direct fastening"),
+        other => return Err(format!("--track {other}: expected ballasted or direct").into()),
+    };
     for (i, v) in speeds.iter().enumerate() {
         if speeds[..i].contains(v) {
             return Err(format!("--speeds: {} km/h is given twice", crate::model::num(*v)).into());
@@ -68,7 +116,18 @@ pub fn main(
     } else {
         crate::model::Limits::default()
     };
-    crate::model::build_bridge(base)?;
+    let bridge = crate::model::build_bridge(base)?;
+    // per train and probe: the largest static displacement
+    let mut statics: std::collections::HashMap<(String, String), f64> = Default::default();
+    for t in &trains {
+        let axles = tbi_dynamics::hslm::hslm_a(t)?;
+        for p in &base.probes {
+            statics.insert(
+                (t.clone(), p.name.clone()),
+                static_displacement_max(&bridge, &axles, p.x_m, 0.05),
+            );
+        }
+    }
     let pb = crate::progress::counted(cases.len(), "cases", true);
     let results: Vec<Result<Row, String>> = cases
         .par_iter()
@@ -79,11 +138,20 @@ pub fn main(
                     let max = |f: fn(&tbi_dynamics::response::ProbeMax) -> f64| {
                         summary.probes.values().map(f).fold(0.0, f64::max)
                     };
+                    let phi = summary
+                        .probes
+                        .iter()
+                        .filter_map(|(name, p)| {
+                            let st = statics[&(t.clone(), name.clone())];
+                            (st > 0.0).then(|| p.vertical_displacement_max_m / st - 1.0)
+                        })
+                        .fold(f64::NEG_INFINITY, f64::max);
                     (
                         t.clone(),
                         *v,
                         max(|p| p.vertical_acceleration_max_m_s2),
                         max(|p| p.vertical_displacement_max_m),
+                        phi,
                     )
                 })
                 .map_err(|e| format!("{t} at {} km/h: {e}", crate::model::num(*v)));
@@ -93,10 +161,16 @@ pub fn main(
         .collect();
     pb.finish_and_clear();
     let rows: Vec<Row> = results.into_iter().collect::<Result<_, _>>()?;
-    let mut csv =
-        String::from("train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m\n");
-    for (t, v, a, d) in &rows {
-        let _ = writeln!(csv, "{t},{v:e},{a:e},{d:e}");
+    let mut csv = String::from(
+        "train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m,deck_static_displacement_max_m,phi_dyn\n",
+    );
+    for (t, v, a, d, phi) in &rows {
+        let st = base
+            .probes
+            .iter()
+            .map(|p| statics[&(t.clone(), p.name.clone())])
+            .fold(0.0, f64::max);
+        let _ = writeln!(csv, "{t},{v:e},{a:e},{d:e},{st:e},{phi:e}");
     }
     crate::outdir::write_atomically(&args.out.join("envelope.csv"), csv.as_bytes())?;
     let governing = |key: fn(&Row) -> f64| {
@@ -118,6 +192,42 @@ pub fn main(
         d.0,
         crate::model::num(d.1)
     );
+    let phi = governing(|r| r.4);
+    println!(
+        "dynamic enhancement φ'dyn: largest {:.3} ({} at {} km/h)",
+        phi.4,
+        phi.0,
+        crate::model::num(phi.1)
+    );
+    println!(
+        "check deck acceleration ≤ {limit} m/s² ({track}, EN 1990 A2.4.4.2.1): {} ({:.3} m/s², {} at {} km/h)",
+        if a.2 <= limit { "PASS" } else { "FAIL" },
+        a.2,
+        a.0,
+        crate::model::num(a.1)
+    );
+    let f = &bridge.frequencies_hz;
+    let needed = 30.0_f64
+        .max(1.5 * f[0])
+        .max(f.get(2).copied().unwrap_or(0.0));
+    let kept = f.iter().copied().fold(0.0, f64::max);
+    if kept < needed {
+        println!(
+            "note: the modes kept reach {kept:.1} Hz; EN 1990 A2.4.4.2.1 asks for max(30 Hz, 1.5 f₁, f₃) = {needed:.1} Hz (raise bridge.modes)"
+        );
+    }
+    if let Some(t) = tbi_dynamics::hslm::HSLM_A.iter().find(|t| t.name == a.0) {
+        let v: Vec<String> = (1..=3)
+            .map(|i| format!("{:.1}", f[0] * t.coach_length_m / i as f64 * 3.6))
+            .collect();
+        println!(
+            "resonance speeds v = f₁ D / i of {} (D = {} m, f₁ = {:.3} Hz): {} km/h",
+            t.name,
+            t.coach_length_m,
+            f[0],
+            v.join(", ")
+        );
+    }
     eprintln!(
         "tbi: {} cases; envelope.csv and the runs in {}",
         rows.len(),

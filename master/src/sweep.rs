@@ -26,6 +26,10 @@ pub struct SweepArgs {
     /// Trains replacing the scenario's: `hslm-a` (A1–A10) or names such as `A1,A4`.
     #[arg(long, value_delimiter = ',')]
     pub trains: Vec<String>,
+    /// With `--trains`: the track for the deck acceleration limit, `ballasted` (3.5 m/s²)
+    /// or `direct` (fastening, 5 m/s²).
+    #[arg(long, default_value = "ballasted")]
+    pub track: String,
     /// Solver (default: the scenario's).
     #[arg(long)]
     pub solver: Option<String>,
