@@ -228,10 +228,229 @@ pub fn main(
             v.join(", ")
         );
     }
+    let report = report(
+        args,
+        base,
+        &bridge,
+        &trains,
+        &rows,
+        (limit, track),
+        (kept, needed),
+    )?;
+    crate::outdir::write_atomically(&args.out.join("report.html"), report.as_bytes())?;
     eprintln!(
-        "tbi: {} cases; envelope.csv and the runs in {}",
+        "tbi: {} cases; envelope.csv, report.html and the runs in {}",
         rows.len(),
         args.out.display()
     );
     Ok(())
+}
+
+/// The sweep's `report.html` ([`crate::report`]).
+fn report(
+    args: &SweepArgs,
+    base: &Scenario,
+    bridge: &tbi_dynamics::bridge::ModalBridge,
+    trains: &[String],
+    rows: &[Row],
+    (limit, track): (f64, &str),
+    (kept, needed): (f64, f64),
+) -> Result<String, Box<dyn std::error::Error>> {
+    use crate::report::{chart, Marks, Report, Series};
+    let num = crate::model::num;
+    let by = |key: fn(&Row) -> f64| -> Vec<Series> {
+        trains
+            .iter()
+            .map(|t| Series {
+                label: t.clone(),
+                points: rows
+                    .iter()
+                    .filter(|r| &r.0 == t)
+                    .map(|r| (r.1, key(r)))
+                    .collect(),
+            })
+            .collect()
+    };
+    let worst = |key: fn(&Row) -> f64| {
+        rows.iter()
+            .max_by(|a, b| key(a).total_cmp(&key(b)))
+            .expect("at least one case")
+    };
+    let a = worst(|r| r.2);
+    let f1 = bridge.frequencies_hz[0];
+    let d_coach = tbi_dynamics::hslm::HSLM_A
+        .iter()
+        .find(|t| t.name == a.0)
+        .map(|t| t.coach_length_m);
+    let resonances: Vec<f64> = d_coach
+        .map(|d| (1..=3).map(|i| f1 * d / i as f64 * 3.6).collect())
+        .unwrap_or_default();
+    let mut charts = vec![(
+        format!(
+            "Deck vertical acceleration against speed; red: the limit {limit} m/s² ({track}); grey: resonance speeds f₁ D / i of {} ({})",
+            a.0,
+            resonances.iter().map(|v| format!("{v:.1}")).collect::<Vec<_>>().join(", ")
+        ),
+        chart(
+            "Deck vertical acceleration",
+            "speed (km/h)",
+            "acceleration (m/s²)",
+            &by(|r| r.2),
+            &Marks {
+                limit: Some((limit, format!("limit {limit} m/s²"))),
+                verticals: resonances.clone(),
+            },
+        )?,
+    )];
+    charts.push((
+        "Deck vertical displacement against speed".into(),
+        chart(
+            "Deck vertical displacement",
+            "speed (km/h)",
+            "displacement (m)",
+            &by(|r| r.3),
+            &Marks::default(),
+        )?,
+    ));
+    charts.push((
+        "Dynamic enhancement φ'dyn = max y_dyn / max y_stat − 1 against speed".into(),
+        chart(
+            "Dynamic enhancement φ'dyn",
+            "speed (km/h)",
+            "φ'dyn (–)",
+            &by(|r| r.4),
+            &Marks::default(),
+        )?,
+    ));
+    // the governing case's time history, at the probe with the largest acceleration
+    let history = args
+        .out
+        .join(&a.0)
+        .join(format!("v{}", num(a.1)))
+        .join("history.csv");
+    let h = crate::plots::History::read(&history)?;
+    let t = h
+        .column("time_s")
+        .ok_or("history.csv has no time_s")?
+        .to_vec();
+    let mut best: Option<(String, Vec<f64>)> = None;
+    for p in &base.probes {
+        let name = format!("{}.vertical_acceleration_m_s2", p.name);
+        if let Some(c) = h.column(&name) {
+            let m = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            if best
+                .as_ref()
+                .is_none_or(|(_, b)| m > b.iter().fold(0.0_f64, |x, v| x.max(v.abs())))
+            {
+                best = Some((p.name.clone(), c.to_vec()));
+            }
+        }
+    }
+    if let Some((probe, c)) = best {
+        charts.push((
+            format!(
+                "Governing time history: deck vertical acceleration at probe {probe}, {} at {} km/h",
+                a.0,
+                num(a.1)
+            ),
+            chart(
+                "Governing deck acceleration",
+                "time (s)",
+                "acceleration (m/s²)",
+                &[Series {
+                    label: format!("{} at {} km/h", a.0, num(a.1)),
+                    points: t.iter().copied().zip(c).collect(),
+                }],
+                &Marks {
+                    limit: Some((limit, format!("limit {limit} m/s²"))),
+                    verticals: Vec::new(),
+                },
+            )?,
+        ));
+    }
+    let damping = match &base.damping_rule {
+        Some(r) => format!(
+            "damping {:.3} % ({} for {}: Table 6.6 {:.3} % + eq. (6.13) {:.3} %)",
+            100.0 * r.ratio,
+            r.rule,
+            r.structure,
+            r.minimum_percent,
+            r.additional_percent
+        ),
+        None => format!("damping {:.3} % (as given)", 100.0 * bridge.damping[0]),
+    };
+    let facts = vec![
+        format!(
+            "bridge: {} m, {} modes (f₁ = {f1:.3} Hz, up to {kept:.1} Hz), {damping}",
+            num(bridge.length_m()),
+            bridge.n_modes()
+        ),
+        format!(
+            "{} trains × {} speeds ({} to {} km/h), moving forces; probes: {}",
+            trains.len(),
+            rows.len() / trains.len().max(1),
+            num(rows.iter().map(|r| r.1).fold(f64::INFINITY, f64::min)),
+            num(rows.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max)),
+            base.probes
+                .iter()
+                .map(|p| format!("{} (x = {} m)", p.name, num(p.x_m)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    ];
+    let checks = vec![
+        (
+            format!("deck acceleration ≤ {limit} m/s² ({track}, EN 1990 A2.4.4.2.1)"),
+            a.2 <= limit,
+            format!("largest {:.3} m/s², {} at {} km/h", a.2, a.0, num(a.1)),
+        ),
+        (
+            "modes up to max(30 Hz, 1.5 f₁, f₃) (EN 1990 A2.4.4.2.1)".into(),
+            kept >= needed,
+            format!("kept up to {kept:.1} Hz, needed {needed:.1} Hz"),
+        ),
+    ];
+    let header = [
+        "train",
+        "acceleration max (m/s²)",
+        "at (km/h)",
+        "displacement max (m)",
+        "at (km/h)",
+        "φ'dyn max",
+        "at (km/h)",
+    ]
+    .map(String::from)
+    .to_vec();
+    let table_rows = trains
+        .iter()
+        .map(|t| {
+            let mine: Vec<&Row> = rows.iter().filter(|r| &r.0 == t).collect();
+            let best = |key: fn(&Row) -> f64| {
+                mine.iter()
+                    .max_by(|a, b| key(a).total_cmp(&key(b)))
+                    .map(|r| (key(r), r.1))
+                    .unwrap_or((f64::NAN, f64::NAN))
+            };
+            let (a, va) = best(|r| r.2);
+            let (d, vd) = best(|r| r.3);
+            let (p, vp) = best(|r| r.4);
+            vec![
+                t.clone(),
+                format!("{a:.4}"),
+                num(va),
+                format!("{d:.6}"),
+                num(vd),
+                format!("{p:.3}"),
+                num(vp),
+            ]
+        })
+        .collect();
+    Ok(Report {
+        title: format!("Dynamic check of {}", base.name),
+        facts,
+        checks,
+        charts,
+        table: (header, table_rows),
+    }
+    .html())
 }

@@ -13,6 +13,7 @@ pub mod outdir;
 pub mod package;
 pub mod plots;
 pub mod progress;
+pub mod report;
 pub mod run;
 pub mod scenario;
 pub mod simulate;

@@ -302,3 +302,69 @@ fn static_displacement_and_dynamic_enhancement() {
         "{stdout}"
     );
 }
+
+/// The browser of tests/browser/setup.sh (installed once by the test command).
+fn browser() -> PathBuf {
+    let out =
+        run(std::process::Command::new("bash").arg(tbi_tests::repo_path("tests/browser/setup.sh")));
+    assert!(
+        out.status.success(),
+        "tests/browser/setup.sh: {}",
+        text(&out.stderr)
+    );
+    PathBuf::from(text(&out.stdout).lines().last().expect("a path").trim())
+}
+
+/// `report.html` is one self-contained file that a headless Chromium renders without a
+/// console message, with its four charts, the checks and the table of maxima.
+#[test]
+fn the_report_renders_in_a_headless_browser() {
+    let dir = scratch("sweep-report");
+    let s = scenario(&dir, SPAN);
+    run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args(["--speeds", "300:340:10", "--trains", "A1,A6", "--out"])
+            .arg(dir.join("sweep")),
+    );
+    let report = dir.join("sweep/report.html");
+    let html = std::fs::read_to_string(&report).unwrap();
+    // self-contained: nothing loaded from elsewhere, no scripts
+    for needle in ["src=\"http", "href=\"http", "<script", "<link", "<img"] {
+        assert!(!html.contains(needle), "report.html has {needle}");
+    }
+    let profile = dir.join("chromium-profile");
+    let out = run(std::process::Command::new(browser())
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--enable-logging=stderr",
+            "--v=0",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg("--dump-dom")
+        .arg(format!("file://{}", report.display())));
+    let (dom, log) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "chromium failed:\n{log}");
+    assert!(!log.contains("CONSOLE"), "console messages:\n{log}");
+    assert_eq!(dom.matches("<svg").count(), 4, "four charts");
+    assert!(
+        dom.contains("Deck vertical acceleration") && dom.contains("Governing deck acceleration")
+    );
+    assert_eq!(dom.matches("class=\"check\"").count(), 2, "two checks");
+    assert!(
+        dom.contains("<td>A1</td>") && dom.contains("<td>A6</td>"),
+        "the table of maxima"
+    );
+    assert!(
+        dom.contains("class=\"fail\">FAIL</span> deck acceleration"),
+        "A1 at 325 km/h is over 3.5 m/s²"
+    );
+}
