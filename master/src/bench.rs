@@ -11,12 +11,15 @@
 //!    coaches 1/8/32, both solvers (the bench case at 300 km/h, so each run is short).
 //! 5. The Tsing Ma finite-element model: assembly plus the lowest 50 modes.
 //! 6. The four-speed sweep of the embedded Tsing Ma case (20, 40, 70, 120 km/h).
+//! 7. The design check of a 20 m span: the ten HSLM-A trains from 140 to 420 km/h in
+//!    2.5 km/h steps (1130 runs, moving forces, modes to 57 Hz): wall time and runs per second.
 //!
 //! `--quick` runs 1 and 2 only. `--json FILE` writes every figure measured under the stable
 //! names `monolithic_realtime_factor`, `cosim_realtime_factor`, `cosim_over_monolithic`,
 //! `cosim_iterations_per_step`, `scale_monolithic_realtime_factor`,
 //! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
-//! per simulated second), `fe_modes_50_s`, `sweep_tsing_ma_4_speeds_s`.
+//! per simulated second), `fe_modes_50_s`, `sweep_tsing_ma_4_speeds_s`, `hslm_sweep_s`,
+//! `hslm_runs_per_s`.
 
 use crate::run::run_scenario;
 use crate::scenario::Scenario;
@@ -211,8 +214,55 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let sweep = t.elapsed().as_secs_f64();
     println!("Tsing Ma four-speed sweep (co-simulation, in parallel): {sweep:.1} s");
     figures.insert("sweep_tsing_ma_4_speeds_s".into(), sweep.into());
+    std::fs::create_dir_all(&args.out)?;
+    let span = args.out.join("hslm-20m.toml");
+    std::fs::write(&span, HSLM_SPAN)?;
+    let t = Instant::now();
+    crate::sweep::main(crate::sweep::SweepArgs {
+        scenario: Some(span),
+        speeds: vec!["140:420:2.5".into()],
+        trains: vec!["hslm-a".into()],
+        track: "ballasted".into(),
+        solver: None,
+        out: args.out.join("hslm"),
+        allow_large: false,
+    })?;
+    let hslm = t.elapsed().as_secs_f64();
+    println!(
+        "HSLM-A design check of a 20 m span (10 trains × 113 speeds = 1130 runs): {hslm:.1} s, {:.0} runs/s",
+        1130.0 / hslm
+    );
+    figures.insert("hslm_sweep_s".into(), hslm.into());
+    figures.insert("hslm_runs_per_s".into(), (1130.0 / hslm).into());
     write_figures(&args, figures)
 }
+
+/// A 20 m simply supported concrete span (f₁ = 6.4 Hz, three modes to 57 Hz) for the HSLM
+/// design check of the bench.
+const HSLM_SPAN: &str = r#"name = "span-20m"
+[run]
+speed_kmh = 300.0
+dt_s = 0.001
+solver = "monolithic"
+free_vibration_s = 0.0
+output_every = 1000000
+[bridge]
+kind = "simply_supported"
+span_m = 20.0
+youngs_modulus_pa = 3.5e10
+inertia_vertical_m4 = 0.9
+mass_per_length_kg_m = 12000.0
+modes = 3
+damping = { rule = "en1991-2", structure = "prestressed_concrete" }
+[train]
+kind = "hslm_a"
+name = "A1"
+[track]
+irregularity = "none"
+[[probe]]
+name = "mid"
+x_m = 10.0
+"#;
 
 fn write_figures(
     args: &BenchArgs,

@@ -2,7 +2,9 @@
 //! supported span (f₁ ≈ 5 Hz, 1 % damping), as a bridge engineer runs the dynamic check.
 //!
 //! * The peak deck acceleration over 200–420 km/h occurs at the first resonance speed of the
-//!   closed form v = f₁ D (D the coach length; f₁ = π/(2L²) √(EI/m) from the section).
+//!   closed form v = f₁ D (D the coach length; f₁ = π/(2L²) √(EI/m) from the section), and
+//!   over 140–190 km/h at the second, f₁ D / 2.
+//! * A whole HSLM-A1 train equals the exact modal series summed over its axles.
 //! * A row of `envelope.csv` equals `tbi run` of the same span with the train typed in as
 //!   `moving_force` axles, built here from the standard's spacings (3, 11, 3, 3.525, d,
 //!   D − 1.5d − 1.7625, then d, D − d per coach, and the mirror) independently of the
@@ -94,6 +96,27 @@ fn hslm_a1_peaks_at_the_resonance_speed_and_equals_its_axles_typed_in() {
     // well above the response away from resonance
     let off = rows.iter().find(|r| r.1 == 250.0).unwrap();
     assert!(peak.2 > 3.0 * off.2, "{} vs {} at 250 km/h", peak.2, off.2);
+    // and the second resonance at f₁ D / 2
+    run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args(["--speeds", "140:190:2", "--trains", "A1", "--out"])
+            .arg(dir.join("second")),
+    );
+    let rows2 = envelope(&dir.join("second/envelope.csv"));
+    let peak2 = rows2.iter().max_by(|a, b| a.2.total_cmp(&b.2)).unwrap();
+    println!(
+        "second peak at {} km/h; f₁ D / 2 = {:.1} km/h",
+        peak2.1,
+        resonance_kmh / 2.0
+    );
+    assert!(
+        (peak2.1 - resonance_kmh / 2.0).abs() <= 0.03 * resonance_kmh / 2.0,
+        "second peak at {} km/h, f₁ D / 2 = {} km/h",
+        peak2.1,
+        resonance_kmh / 2.0
+    );
 
     // the same case with the axles typed in from the standard's spacings
     let (n, d_coach, d) = (18, 18.0, 2.0);
@@ -367,4 +390,119 @@ fn the_report_renders_in_a_headless_browser() {
         dom.contains("class=\"fail\">FAIL</span> deck acceleration"),
         "A1 at 325 km/h is over 3.5 m/s²"
     );
+}
+
+/// Exact response of q'' + 2ζω q' + ω² q = f₀ sin(Ω τ) for 0 ≤ τ ≤ T from rest, then free
+/// vibration: (q, q') at τ (q = 0 for τ < 0).
+fn sdof(omega: f64, zeta: f64, f0: f64, big: f64, t_force: f64, tau: f64) -> (f64, f64) {
+    if tau <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let wd = omega * (1.0 - zeta * zeta).sqrt();
+    let forced = |t: f64| -> (f64, f64) {
+        let d = (omega * omega - big * big).powi(2) + (2.0 * zeta * omega * big).powi(2);
+        let a = f0 * (omega * omega - big * big) / d;
+        let b = -f0 * 2.0 * zeta * omega * big / d;
+        let c1 = -b;
+        let c2 = (zeta * omega * c1 - a * big) / wd;
+        let e = (-zeta * omega * t).exp();
+        let (s, c) = (wd * t).sin_cos();
+        let x = a * (big * t).sin() + b * (big * t).cos() + e * (c1 * c + c2 * s);
+        let xd = a * big * (big * t).cos() - b * big * (big * t).sin()
+            + e * (-zeta * omega * (c1 * c + c2 * s) + wd * (-c1 * s + c2 * c));
+        (x, xd)
+    };
+    if tau <= t_force {
+        return forced(tau);
+    }
+    let (x0, v0) = forced(t_force);
+    let t = tau - t_force;
+    let e = (-zeta * omega * t).exp();
+    let (s, c) = (wd * t).sin_cos();
+    let b = (v0 + zeta * omega * x0) / wd;
+    let x = e * (x0 * c + b * s);
+    let xd = e * (-zeta * omega * (x0 * c + b * s) + wd * (-x0 * s + b * c));
+    (x, xd)
+}
+
+/// HSLM-A1 as moving forces on the 25 m span against the exact modal series summed over its
+/// 50 axles (three sine modes, 1 % damping, every axle entering at its own time): peak
+/// midspan displacement and acceleration within 0.5 % at resonance (v = f₁ D = 324 km/h)
+/// and off it (250 km/h).
+#[test]
+fn hslm_a1_equals_the_exact_modal_series_over_its_axles() {
+    let dir = scratch("hslm-exact");
+    let fine = SPAN
+        .replace("dt_s = 0.001", "dt_s = 0.0002")
+        .replace("output_every = 10", "output_every = 1");
+    let s = scenario(&dir, &fine);
+    let (l, ei, m, zeta): (f64, f64, f64, f64) = (25.0, 3.5e10 * 1.696, 15000.0, 0.01);
+    let offsets: Vec<f64> = {
+        let (n, d_coach, d) = (18, 18.0, 2.0);
+        let mut sp = vec![3.0, 11.0, 3.0, 3.525, d, d_coach - 1.5 * d - 1.7625];
+        for _ in 0..n {
+            sp.extend([d, d_coach - d]);
+        }
+        sp.extend([d, d_coach - 1.5 * d - 1.7625, d, 3.525, 3.0, 11.0, 3.0]);
+        let mut o = vec![0.0];
+        for x in sp {
+            o.push(o.last().unwrap() + x);
+        }
+        o
+    };
+    for v_kmh in [324.0, 250.0] {
+        let out = dir.join(format!("v{v_kmh}"));
+        run_ok(
+            tbi_command()
+                .arg("run")
+                .arg(&s)
+                .args(["--speed-kmh", &v_kmh.to_string(), "--quiet", "--out"])
+                .arg(&out),
+        );
+        let summary = read_summary(&out);
+        let probe = &summary["probes"]["mid"];
+        let ours_y = probe["vertical_displacement_max_m"].as_f64().unwrap();
+        let ours_a = probe["vertical_acceleration_max_m_s2"].as_f64().unwrap();
+        let t_end = summary["simulated_time_s"].as_f64().unwrap();
+        let v = v_kmh / 3.6;
+        let (mut y_max, mut a_max) = (0.0_f64, 0.0_f64);
+        let steps = (t_end / 1e-4).round() as usize;
+        for k in 0..=steps {
+            let t = k as f64 * 1e-4;
+            let (mut y, mut a) = (0.0, 0.0);
+            for n in 1..=3 {
+                let nf = n as f64;
+                let omega = (nf * std::f64::consts::PI / l).powi(2) * (ei / m).sqrt();
+                let big = nf * std::f64::consts::PI * v / l;
+                let f0 = 2.0 * 170e3 / (m * l);
+                let (mut q, mut qd, mut force) = (0.0, 0.0, 0.0);
+                for o in &offsets {
+                    let tau = t - o / v;
+                    let (x, xd) = sdof(omega, zeta, f0, big, l / v, tau);
+                    q += x;
+                    qd += xd;
+                    if tau > 0.0 && tau <= l / v {
+                        force += f0 * (big * tau).sin();
+                    }
+                }
+                let qdd = force - 2.0 * zeta * omega * qd - omega * omega * q;
+                let shape = (nf * std::f64::consts::PI / 2.0).sin();
+                y += shape * q;
+                a += shape * qdd;
+            }
+            y_max = y_max.max(y.abs());
+            a_max = a_max.max(a.abs());
+        }
+        println!(
+            "{v_kmh} km/h: displacement {ours_y:.6e} vs exact {y_max:.6e}, acceleration {ours_a:.5} vs exact {a_max:.5}"
+        );
+        assert!(
+            (ours_y - y_max).abs() <= 5e-3 * y_max,
+            "{v_kmh} km/h displacement"
+        );
+        assert!(
+            (ours_a - a_max).abs() <= 5e-3 * a_max,
+            "{v_kmh} km/h acceleration"
+        );
+    }
 }
