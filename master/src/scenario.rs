@@ -332,7 +332,7 @@ impl Scenario {
         let run = c.run(&file.run)?;
         let damping_rule = c.damping_rule(&file.bridge)?;
         let bridge = c.bridge(&file.bridge, damping_rule.as_ref(), base_dir)?;
-        let train = c.train(&file.train)?;
+        let train = c.train(&file.train, base_dir)?;
         c.probes(&file.probes)?;
         file.coupling
             .validate()
@@ -456,6 +456,8 @@ struct FileTrain {
     kind: String,
     /// `kind = "hslm_a"`: the train's name, `A1` … `A10`.
     name: Option<String>,
+    /// `kind = "moving_force"`: a CSV of axles instead of `axles`.
+    file: Option<PathBuf>,
     #[serde(default)]
     axles: Vec<toml::Table>,
     preset: Option<String>,
@@ -816,13 +818,92 @@ impl Check<'_> {
         }
     }
 
-    fn train(&self, t: &FileTrain) -> Result<Train, InputError> {
-        let spec = self.train_spec(t)?;
+    fn train(&self, t: &FileTrain, base_dir: &Path) -> Result<Train, InputError> {
+        let spec = match (&t.file, t.kind.as_str()) {
+            (Some(file), "moving_force") => {
+                if !t.axles.is_empty() {
+                    return Err(self.err(
+                        "train.axles",
+                        "(set)",
+                        "give either axles or file, not both",
+                    ));
+                }
+                TrainSpec::MovingForce(self.axles_file(&base_dir.join(file))?)
+            }
+            (Some(_), kind) => {
+                return Err(self.err(
+                    "train.file",
+                    "(set)",
+                    &format!("does not apply to kind \"{kind}\" (only \"moving_force\")"),
+                ))
+            }
+            (None, _) => self.train_spec(t)?,
+        };
         let hunting = t.hunting.clone().unwrap_or_default();
         hunting
             .validate()
             .map_err(|e| self.err("train.hunting", format!("{hunting:?}"), &e.to_string()))?;
         Ok(Train { spec, hunting })
+    }
+
+    /// `train.file`: a CSV of axles, header `offset_m,load_n` (distance behind the first
+    /// axle, m; vertical load, N), one axle per line.
+    fn axles_file(&self, path: &Path) -> Result<Vec<MovingForceAxle>, InputError> {
+        let text = tbi_modes::input::read_text(path, tbi_modes::input::MAX_DATA_FILE_BYTES)
+            .map_err(|e| InputError::file(path, format!("train.file: {e}")))?;
+        let at = |line: usize, why: String| InputError::line(path, line, why);
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty());
+        match lines.next() {
+            Some((_, h)) if h.trim().replace(' ', "") == "offset_m,load_n" => {}
+            Some((i, h)) => {
+                return Err(at(
+                    i + 1,
+                    format!("the header is `{}`, expected `offset_m,load_n`", h.trim()),
+                ))
+            }
+            None => {
+                return Err(at(
+                    1,
+                    "the file is empty; expected the header offset_m,load_n and one axle per line"
+                        .into(),
+                ))
+            }
+        }
+        let mut axles = Vec::new();
+        for (i, line) in lines {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            let [o, p] = fields.as_slice() else {
+                return Err(at(
+                    i + 1,
+                    format!(
+                        "`{}` has {} fields, expected offset_m,load_n",
+                        line.trim(),
+                        fields.len()
+                    ),
+                ));
+            };
+            let num = |v: &str, what: &str| -> Result<f64, InputError> {
+                v.parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| at(i + 1, format!("{what} `{v}` is not a number")))
+            };
+            let (offset_m, load_n) = (num(o, "offset_m")?, num(p, "load_n")?);
+            if offset_m < 0.0 {
+                return Err(at(i + 1, format!("offset_m = {offset_m} is negative")));
+            }
+            axles.push(MovingForceAxle { offset_m, load_n });
+            if axles.len() > limits::AXLES {
+                return Err(at(i + 1, format!("more than {} axles", limits::AXLES)));
+            }
+        }
+        if axles.is_empty() {
+            return Err(at(1, "no axles after the header".into()));
+        }
+        Ok(axles)
     }
 
     /// The axles of `moving_force` / `sprung_mass` trains, each table converted and checked.

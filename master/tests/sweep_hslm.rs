@@ -506,3 +506,81 @@ fn hslm_a1_equals_the_exact_modal_series_over_its_axles() {
         );
     }
 }
+
+/// `train = { kind = "moving_force", file = "axles.csv" }`: a user train as a CSV of axles
+/// gives the run of the same axles typed into the scenario; an empty or malformed file is
+/// refused with its line.
+#[test]
+fn a_train_from_an_axles_csv() {
+    let dir = scratch("axles-csv");
+    let axles = [(0.0, 170e3), (3.0, 170e3), (14.0, 150e3), (17.0, 150e3)];
+    let mut csv = String::from("offset_m,load_n\n");
+    for (o, p) in axles {
+        csv.push_str(&format!("{o},{p}\n"));
+    }
+    std::fs::create_dir_all(dir.join("file")).unwrap();
+    std::fs::write(dir.join("file/axles.csv"), &csv).unwrap();
+    let from_file = SPAN.replace(
+        "kind = \"hslm_a\"\nname = \"A1\"",
+        "kind = \"moving_force\"\nfile = \"axles.csv\"",
+    );
+    let typed = SPAN.replace(
+        "kind = \"hslm_a\"\nname = \"A1\"",
+        &format!(
+            "kind = \"moving_force\"\naxles = [{}]",
+            axles
+                .iter()
+                .map(|(o, p)| format!("{{ offset_m = {o:?}, load_n = {p:?} }}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    );
+    let mut peaks = Vec::new();
+    for (label, text) in [("file", &from_file), ("typed", &typed)] {
+        let s = scenario(&dir.join(label), text);
+        run_ok(
+            tbi_command()
+                .arg("run")
+                .arg(&s)
+                .args(["--quiet", "--out"])
+                .arg(dir.join(label).join("out")),
+        );
+        let summary = read_summary(&dir.join(label).join("out"));
+        peaks.push(
+            summary["probes"]["mid"]["vertical_acceleration_max_m_s2"]
+                .as_f64()
+                .unwrap(),
+        );
+    }
+    assert_eq!(peaks[0], peaks[1]);
+    for (content, needle) in [
+        ("", "axles.csv:1: the file is empty"),
+        (
+            "offset_m,load_n\n0,170000\n3,abc\n",
+            "axles.csv:3: load_n `abc` is not a number",
+        ),
+        (
+            "offset_m,load_n\n0,170000,1\n",
+            "axles.csv:2: `0,170000,1` has 3 fields",
+        ),
+        (
+            "position,force\n0,1\n",
+            "axles.csv:1: the header is `position,force`",
+        ),
+        (
+            "offset_m,load_n\n",
+            "axles.csv:1: no axles after the header",
+        ),
+    ] {
+        std::fs::write(dir.join("file/axles.csv"), content).unwrap();
+        let r = run(tbi_command()
+            .arg("run")
+            .arg(dir.join("file/span.toml"))
+            .args(["--quiet", "--out"])
+            .arg(dir.join("file/bad")));
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{err}");
+        assert!(err.contains(needle), "expected {needle:?} in {err}");
+        assert!(!dir.join("file/bad/summary.json").exists());
+    }
+}
