@@ -31,6 +31,9 @@ pub struct RunArgs {
     /// Run even when the estimated steps, history.csv size or memory pass the limits.
     #[arg(long)]
     pub allow_large: bool,
+    /// Print the whole `summary.json` on standard output instead of the short summary.
+    #[arg(long)]
+    pub json: bool,
 }
 
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -49,8 +52,12 @@ pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         Limits::default()
     };
     let summary = run_scenario(&scenario, &out, !args.quiet, &limits)?;
-    println!("{}", serde_json::to_string_pretty(&summary)?);
-    eprintln!("tbi: results in {}", out.display());
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+        eprintln!("tbi: results in {}", out.display());
+    } else {
+        println!("{}", crate::summary::text(&summary, &out));
+    }
     Ok(())
 }
 

@@ -127,3 +127,110 @@ impl Summary {
         crate::outdir::write_atomically(&out.join("summary.json"), text.as_bytes())
     }
 }
+
+/// The few lines `tbi run` prints for a person: the case, the run, the governing maxima in
+/// readable units against their limits with PASS/FAIL, and where the files are.
+///
+/// Limits: deck vertical acceleration 3.5 m/s² (EN 1990 A2.4.4.2.1, ballasted track);
+/// car-body vertical acceleration against the comfort levels of EN 1990 Table A2.9 (1.0 very
+/// good, 1.3 good, 2.0 m/s² acceptable); derail factor 0.8 and offload factor 0.6 (the
+/// paper's Chinese code limits); Sperling W < 2.5 excellent, < 2.75 good, < 3.0 acceptable.
+pub fn text(s: &Summary, out: &Path) -> String {
+    use std::fmt::Write as _;
+    let pass = |ok: bool| if ok { "PASS" } else { "FAIL" };
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{}: {} at {} km/h, {} steps ({:.3} s simulated) in {:.2} s wall{}",
+        s.name,
+        s.solver,
+        crate::model::num(s.speed_kmh),
+        s.steps,
+        s.simulated_time_s,
+        s.wall_time_s,
+        if s.status == "ok" {
+            String::new()
+        } else {
+            format!(" — {}", s.status.to_uppercase())
+        }
+    );
+    let probe_max = |f: fn(&ProbeMax) -> f64| {
+        s.probes
+            .iter()
+            .max_by(|a, b| f(a.1).total_cmp(&f(b.1)))
+            .map(|(n, p)| (n.clone(), f(p)))
+    };
+    if let (Some((nz, z)), Some((na, a))) = (
+        probe_max(|p| p.vertical_displacement_max_m),
+        probe_max(|p| p.vertical_acceleration_max_m_s2),
+    ) {
+        let _ = writeln!(
+            t,
+            "  deck: vertical displacement {:.3} cm ({nz}); vertical acceleration {:.2} cm/s² ({na}), limit 350 cm/s² (EN 1990, ballasted): {}",
+            100.0 * z,
+            100.0 * a,
+            pass(a <= 3.5)
+        );
+    }
+    if let (Some((ny, y)), Some((nl, l))) = (
+        probe_max(|p| p.lateral_displacement_max_m),
+        probe_max(|p| p.lateral_acceleration_max_m_s2),
+    ) {
+        let _ = writeln!(
+            t,
+            "        lateral displacement {:.3} mm ({ny}); lateral acceleration {:.2} cm/s² ({nl})",
+            1000.0 * y,
+            100.0 * l
+        );
+    }
+    let v = &s.vehicles;
+    let bv = v.vertical_acceleration_max_m_s2;
+    let comfort = if bv <= 1.0 {
+        "very good"
+    } else if bv <= 1.3 {
+        "good"
+    } else if bv <= 2.0 {
+        "acceptable"
+    } else {
+        "beyond acceptable"
+    };
+    let sperling = v
+        .sperling_vertical
+        .iter()
+        .flatten()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let _ = writeln!(
+        t,
+        "  car bodies: vertical acceleration {:.1} cm/s² (EN 1990 Table A2.9: {comfort}); lateral {:.1} cm/s²{}",
+        100.0 * bv,
+        100.0 * v.lateral_acceleration_max_m_s2,
+        if sperling.is_finite() {
+            format!("; Sperling W (vertical) up to {sperling:.2}")
+        } else {
+            String::new()
+        }
+    );
+    let f = &s.safety;
+    let _ = writeln!(
+        t,
+        "  safety: derail factor {:.3} (limit 0.8: {}), offload factor {:.3} (limit 0.6: {})",
+        f.derail_factor_max,
+        pass(f.derail_factor_max <= 0.8),
+        f.offload_factor_max,
+        pass(f.offload_factor_max <= 0.6)
+    );
+    if let Some(c) = &s.coupling {
+        let _ = writeln!(
+            t,
+            "  coupling: {} ({}), {:.2} iterations per step (max {})",
+            c.scheme, c.acceleration, c.iterations_mean, c.iterations_max
+        );
+    }
+    let _ = write!(
+        t,
+        "  files: {} (summary.json, history.csv, plots)",
+        out.display()
+    );
+    t
+}

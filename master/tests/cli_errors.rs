@@ -494,8 +494,31 @@ fn cli_issue_example_runs_and_writes_required_outputs() {
     assert_eq!(s["steps"], 3800);
     let wall = s["wall_time_s"].as_f64().unwrap();
     assert!(wall >= 0.0, "wall_time_s = {wall}");
-    // stdout carries the same summary
-    let printed: serde_json::Value = serde_json::from_str(&r.stdout).expect("summary on stdout");
+    // stdout: a short summary for a person (the whole one with --json, below)
+    assert!(
+        r.stdout
+            .contains("yang-yau: monolithic at 100 km/h, 3800 steps")
+            && r.stdout.contains("deck: vertical displacement")
+            && r.stdout
+                .contains("limit 350 cm/s² (EN 1990, ballasted): PASS")
+            && r.stdout.contains("safety: derail factor"),
+        "{}",
+        r.stdout
+    );
+    let z = s["probes"]["mid"]["vertical_displacement_max_m"]
+        .as_f64()
+        .unwrap();
+    assert!(r
+        .stdout
+        .contains(&format!("vertical displacement {:.3} cm (mid)", 100.0 * z)));
+    let j = run(
+        &data("yang-yau.toml"),
+        "monolithic",
+        &dir.join("json"),
+        &["--json"],
+    );
+    j.expect_ok("--json");
+    let printed: serde_json::Value = serde_json::from_str(&j.stdout).expect("summary on stdout");
     assert_eq!(printed["steps"], s["steps"]);
 
     let h = r.history();
