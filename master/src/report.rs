@@ -4,6 +4,7 @@
 //! limit line and the resonance speeds of the governing train, deck displacement, φ'dyn),
 //! the governing time history, and the table of each train's maxima.
 
+use crate::plots::COLORS;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 
@@ -21,19 +22,6 @@ pub struct Marks {
     /// Vertical lines at these abscissae (e.g. resonance speeds).
     pub verticals: Vec<f64>,
 }
-
-const COLORS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
 
 /// An SVG line chart as text.
 pub fn chart(

@@ -66,6 +66,39 @@ fn envelope(path: &Path) -> Vec<Row> {
         .collect()
 }
 
+/// HSLM-A1's axle offsets from the standard's spacings (3, 11, 3, 3.525, d, D − 1.5d − 1.7625,
+/// then d, D − d per coach, and the mirror), written independently of the tool's positions.
+fn a1_offsets() -> Vec<f64> {
+    let (n, d_coach, d) = (18, 18.0, 2.0);
+    let mut spacings = vec![3.0, 11.0, 3.0, 3.525, d, d_coach - 1.5 * d - 1.7625];
+    for _ in 0..n {
+        spacings.extend([d, d_coach - d]);
+    }
+    spacings.extend([d, d_coach - 1.5 * d - 1.7625, d, 3.525, 3.0, 11.0, 3.0]);
+    let mut offsets = vec![0.0];
+    for sp in spacings {
+        offsets.push(offsets.last().unwrap() + sp);
+    }
+    assert_eq!(offsets.len(), 2 * n + 14);
+    offsets
+}
+
+/// `tbi run` of `text` in `dir`; the peak deck vertical acceleration at probe `mid`.
+fn run_peak(dir: &Path, text: &str, extra: &[&str]) -> f64 {
+    let s = scenario(dir, text);
+    run_ok(
+        tbi_command()
+            .arg("run")
+            .arg(&s)
+            .args(extra)
+            .args(["--quiet", "--out"])
+            .arg(dir.join("out")),
+    );
+    read_summary(&dir.join("out"))["probes"]["mid"]["vertical_acceleration_max_m_s2"]
+        .as_f64()
+        .unwrap()
+}
+
 #[test]
 fn hslm_a1_peaks_at_the_resonance_speed_and_equals_its_axles_typed_in() {
     let dir = scratch("sweep-hslm");
@@ -119,35 +152,15 @@ fn hslm_a1_peaks_at_the_resonance_speed_and_equals_its_axles_typed_in() {
     );
 
     // the same case with the axles typed in from the standard's spacings
-    let (n, d_coach, d) = (18, 18.0, 2.0);
-    let mut spacings = vec![3.0, 11.0, 3.0, 3.525, d, d_coach - 1.5 * d - 1.7625];
-    for _ in 0..n {
-        spacings.extend([d, d_coach - d]);
-    }
-    spacings.extend([d, d_coach - 1.5 * d - 1.7625, d, 3.525, 3.0, 11.0, 3.0]);
-    let mut x = 0.0;
-    let mut axles = vec![format!("{{ offset_m = 0.0, load_n = 170000.0 }}")];
-    for sp in spacings {
-        x += sp;
-        axles.push(format!("{{ offset_m = {x:?}, load_n = 170000.0 }}"));
-    }
-    assert_eq!(axles.len(), 2 * n + 14);
+    let axles: Vec<String> = a1_offsets()
+        .iter()
+        .map(|x| format!("{{ offset_m = {x:?}, load_n = 170000.0 }}"))
+        .collect();
     let typed = SPAN.replace(
         "kind = \"hslm_a\"\nname = \"A1\"",
         &format!("kind = \"moving_force\"\naxles = [{}]", axles.join(", ")),
     );
-    let t = scenario(&dir.join("typed"), &typed);
-    run_ok(
-        tbi_command()
-            .arg("run")
-            .arg(&t)
-            .args(["--speed-kmh", "300", "--quiet", "--out"])
-            .arg(dir.join("typed/out")),
-    );
-    let summary = read_summary(&dir.join("typed/out"));
-    let a = summary["probes"]["mid"]["vertical_acceleration_max_m_s2"]
-        .as_f64()
-        .unwrap();
+    let a = run_peak(&dir.join("typed"), &typed, &["--speed-kmh", "300"]);
     let row = rows.iter().find(|r| r.1 == 300.0).unwrap();
     assert!(
         (a - row.2).abs() <= 1e-9 * a,
@@ -280,17 +293,7 @@ fn static_displacement_and_dynamic_enhancement() {
         let b = l - a;
         b * x * (l * l - b * b - x * x) / (6.0 * ei * l)
     };
-    // A1 axles from the standard's spacings (as in the test above)
-    let (n, d_coach, d) = (18, 18.0, 2.0);
-    let mut spacings = vec![3.0, 11.0, 3.0, 3.525, d, d_coach - 1.5 * d - 1.7625];
-    for _ in 0..n {
-        spacings.extend([d, d_coach - d]);
-    }
-    spacings.extend([d, d_coach - 1.5 * d - 1.7625, d, 3.525, 3.0, 11.0, 3.0]);
-    let mut offsets = vec![0.0];
-    for sp in spacings {
-        offsets.push(offsets.last().unwrap() + sp);
-    }
+    let offsets = a1_offsets();
     let mut best = 0.0_f64;
     let mut head = 0.0;
     while head <= l + offsets.last().unwrap() {
@@ -437,19 +440,7 @@ fn hslm_a1_equals_the_exact_modal_series_over_its_axles() {
         .replace("output_every = 10", "output_every = 1");
     let s = scenario(&dir, &fine);
     let (l, ei, m, zeta): (f64, f64, f64, f64) = (25.0, 3.5e10 * 1.696, 15000.0, 0.01);
-    let offsets: Vec<f64> = {
-        let (n, d_coach, d) = (18, 18.0, 2.0);
-        let mut sp = vec![3.0, 11.0, 3.0, 3.525, d, d_coach - 1.5 * d - 1.7625];
-        for _ in 0..n {
-            sp.extend([d, d_coach - d]);
-        }
-        sp.extend([d, d_coach - 1.5 * d - 1.7625, d, 3.525, 3.0, 11.0, 3.0]);
-        let mut o = vec![0.0];
-        for x in sp {
-            o.push(o.last().unwrap() + x);
-        }
-        o
-    };
+    let offsets = a1_offsets();
     for v_kmh in [324.0, 250.0] {
         let out = dir.join(format!("v{v_kmh}"));
         run_ok(
@@ -535,24 +526,10 @@ fn a_train_from_an_axles_csv() {
                 .join(", ")
         ),
     );
-    let mut peaks = Vec::new();
-    for (label, text) in [("file", &from_file), ("typed", &typed)] {
-        let s = scenario(&dir.join(label), text);
-        run_ok(
-            tbi_command()
-                .arg("run")
-                .arg(&s)
-                .args(["--quiet", "--out"])
-                .arg(dir.join(label).join("out")),
-        );
-        let summary = read_summary(&dir.join(label).join("out"));
-        peaks.push(
-            summary["probes"]["mid"]["vertical_acceleration_max_m_s2"]
-                .as_f64()
-                .unwrap(),
-        );
-    }
-    assert_eq!(peaks[0], peaks[1]);
+    assert_eq!(
+        run_peak(&dir.join("file"), &from_file, &[]),
+        run_peak(&dir.join("typed"), &typed, &[])
+    );
     for (content, needle) in [
         ("", "axles.csv:1: the file is empty"),
         (
