@@ -179,6 +179,7 @@
 //! from the cable (H, sag) and the deck stiffnesses, and these are fixed by the six
 //! frequencies and the deflection: the free five-parameter fit lands on the values above.
 
+pub mod beam;
 pub mod bridge;
 mod elements;
 pub mod error;

@@ -164,6 +164,22 @@ pub fn nodal_modes(s: &Scenario) -> Result<Option<(ModeSet, &ModalOptions, Strin
             })?;
             Ok(Some((set, modal, resolved.display().to_string())))
         }
+        Bridge::Beam {
+            beam,
+            x_start_m,
+            modal,
+        } => {
+            let mut set = beam.modes(modal.modes).map_err(|e| {
+                InputError::field(
+                    &s.origin,
+                    "bridge.spans_m",
+                    format!("{:?}", beam.spans_m),
+                    e.to_string(),
+                )
+            })?;
+            set.x_m.iter_mut().for_each(|x| *x += x_start_m);
+            Ok(Some((set, modal, "continuous beam".into())))
+        }
         Bridge::Suspension { preset, modal } => {
             let set = crate::suspension::preset_modes(*preset, modal.modes)
                 .map_err(|e| InputError::field(&s.origin, "bridge.preset", preset.name(), e))?;

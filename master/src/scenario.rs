@@ -188,6 +188,14 @@ pub enum Bridge {
         preset: SuspensionPreset,
         modal: ModalOptions,
     },
+    /// `kind = "beam"`: a prismatic beam continuous over `spans_m` (vertical bending, pinned
+    /// supports), modes by the FE crate ([`tbi_fe::beam::ContinuousBeam`]).
+    Beam {
+        beam: tbi_fe::beam::ContinuousBeam,
+        /// Position of the first support along the track, m. Default 0.
+        x_start_m: f64,
+        modal: ModalOptions,
+    },
 }
 
 /// How a set of nodal modes becomes the modal bridge.
@@ -236,6 +244,7 @@ impl Bridge {
             Bridge::SimplySupported(_) => "simply_supported",
             Bridge::ModalFile { .. } => "modal_file",
             Bridge::Suspension { .. } => "suspension",
+            Bridge::Beam { .. } => "beam",
         }
     }
 
@@ -243,7 +252,9 @@ impl Bridge {
     pub fn modes(&self) -> usize {
         match self {
             Bridge::SimplySupported(b) => b.modes,
-            Bridge::ModalFile { modal, .. } | Bridge::Suspension { modal, .. } => modal.modes,
+            Bridge::ModalFile { modal, .. }
+            | Bridge::Suspension { modal, .. }
+            | Bridge::Beam { modal, .. } => modal.modes,
         }
     }
 }
@@ -423,6 +434,8 @@ struct FileBridge {
     track_height_m: Option<f64>,
     // simply supported
     span_m: Option<f64>,
+    // beam
+    spans_m: Option<Vec<f64>>,
     youngs_modulus_pa: Option<f64>,
     inertia_vertical_m4: Option<f64>,
     inertia_lateral_m4: Option<f64>,
@@ -769,6 +782,66 @@ impl Check<'_> {
                     x_start_m: b.x_start_m.unwrap_or(0.0),
                 }))
             }
+            "beam" => {
+                let spans = b.spans_m.clone().unwrap_or_default();
+                if spans.is_empty() {
+                    return Err(self.err(
+                        "bridge.spans_m",
+                        "(missing)",
+                        "kind \"beam\" needs spans_m = [ … ] (m)",
+                    ));
+                }
+                for (i, &l) in spans.iter().enumerate() {
+                    self.positive(&format!("bridge.spans_m[{i}]"), l)?;
+                    self.within(&format!("bridge.spans_m[{i}]"), l, (0.1, 1e4), "(m)")?;
+                }
+                self.at_most("bridge.spans_m (count)", spans.len(), 100)?;
+                let need = |name: &str, v: Option<f64>| match v {
+                    None => Err(self.err(
+                        &format!("bridge.{name}"),
+                        "(missing)",
+                        "is required for kind \"beam\"",
+                    )),
+                    Some(v) => self.positive(&format!("bridge.{name}"), v),
+                };
+                let youngs_modulus_pa = need("youngs_modulus_pa", b.youngs_modulus_pa)?;
+                let inertia_m4 = need("inertia_vertical_m4", b.inertia_vertical_m4)?;
+                let mass = need("mass_per_length_kg_m", b.mass_per_length_kg_m)?;
+                for (name, lo, hi) in limits::SECTION {
+                    if let Some((_, Some(v))) = section.iter().find(|f| f.0 == name) {
+                        self.within(&format!("bridge.{name}"), *v, (lo, hi), "(SI units)")?;
+                    }
+                }
+                refuse(&[
+                    ("span_m", b.span_m.is_some()),
+                    ("inertia_lateral_m4", b.inertia_lateral_m4.is_some()),
+                    ("shear_modulus_pa", b.shear_modulus_pa.is_some()),
+                    ("torsion_constant_m4", b.torsion_constant_m4.is_some()),
+                    ("polar_inertia_kg_m", b.polar_inertia_kg_m.is_some()),
+                    ("path", b.path.is_some()),
+                    ("preset", b.preset.is_some()),
+                ])?;
+                let x_start_m = b.x_start_m.unwrap_or(0.0);
+                self.finite("bridge.x_start_m", x_start_m)?;
+                Ok(Bridge::Beam {
+                    beam: tbi_fe::beam::ContinuousBeam {
+                        spans_m: spans,
+                        youngs_modulus_pa,
+                        inertia_m4,
+                        mass_per_length_kg_m: mass,
+                        elements_per_span: 40,
+                    },
+                    x_start_m,
+                    modal: ModalOptions {
+                        modes: b.modes,
+                        damping_ratio,
+                        damping_ratio_torsional,
+                        track_eccentricity_m: b.track_eccentricity_m.unwrap_or(0.0),
+                        track_height_m: b.track_height_m.unwrap_or(0.0),
+                        interpolation_points: b.interpolation_points.unwrap_or(4),
+                    },
+                })
+            }
             "modal_file" => {
                 let Some(path) = b.path.clone() else {
                     return Err(self.err(
@@ -813,7 +886,7 @@ impl Check<'_> {
             other => Err(self.err(
                 "bridge.kind",
                 format!("\"{other}\""),
-                "unknown kind; expected \"simply_supported\", \"modal_file\" or \"suspension\"",
+                "unknown kind; expected \"simply_supported\", \"beam\", \"modal_file\" or \"suspension\"",
             )),
         }
     }

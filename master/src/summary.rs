@@ -200,17 +200,21 @@ pub fn text(s: &Summary, out: &Path) -> String {
         .flatten()
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
-    let _ = writeln!(
-        t,
-        "  car bodies: vertical acceleration {:.1} cm/s² (EN 1990 Table A2.9: {comfort}); lateral {:.1} cm/s²{}",
-        100.0 * bv,
-        100.0 * v.lateral_acceleration_max_m_s2,
-        if sperling.is_finite() {
-            format!("; Sperling W (vertical) up to {sperling:.2}")
-        } else {
-            String::new()
-        }
-    );
+    if v.sperling_vertical.iter().all(Option::is_none) && bv == 0.0 {
+        let _ = writeln!(t, "  car bodies: none modelled (moving forces)");
+    } else {
+        let _ = writeln!(
+            t,
+            "  car bodies: vertical acceleration {:.1} cm/s² (EN 1990 Table A2.9: {comfort}); lateral {:.1} cm/s²{}",
+            100.0 * bv,
+            100.0 * v.lateral_acceleration_max_m_s2,
+            if sperling.is_finite() {
+                format!("; Sperling W (vertical) up to {sperling:.2}")
+            } else {
+                String::new()
+            }
+        );
+    }
     let f = &s.safety;
     let _ = writeln!(
         t,

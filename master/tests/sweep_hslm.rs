@@ -561,3 +561,50 @@ fn a_train_from_an_axles_csv() {
         assert!(!dir.join("file/bad/summary.json").exists());
     }
 }
+
+/// `kind = "beam"`: two equal continuous spans; the first two frequencies of the run's
+/// bridge equal the closed forms (π/L)² √(EI/m) and (3.9266/L)² √(EI/m) over 2π, to 0.1 %;
+/// a zero span is refused by name.
+#[test]
+fn a_two_span_continuous_beam() {
+    let dir = scratch("two-span");
+    let two = SPAN
+        .replace(
+            "kind = \"simply_supported\"\nspan_m = 25.0",
+            "kind = \"beam\"\nspans_m = [20.0, 20.0]",
+        )
+        .replace("modes = 3", "modes = 4");
+    let s = scenario(&dir, &two);
+    run_ok(
+        tbi_command()
+            .arg("run")
+            .arg(&s)
+            .args(["--quiet", "--out"])
+            .arg(dir.join("out")),
+    );
+    let summary = read_summary(&dir.join("out"));
+    let f: Vec<f64> = summary["bridge"]["frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let c = (3.5e10_f64 * 1.696 / 15000.0).sqrt() / (2.0 * std::f64::consts::PI);
+    let f1 = (std::f64::consts::PI / 20.0).powi(2) * c;
+    let f2 = (3.926_602_312_f64 / 20.0).powi(2) * c;
+    assert!((f[0] / f1 - 1.0).abs() < 1e-3, "{f:?} vs {f1}");
+    assert!((f[1] / f2 - 1.0).abs() < 1e-3, "{f:?} vs {f2}");
+    assert_eq!(summary["bridge"]["length_m"].as_f64(), Some(40.0));
+    let bad = scenario(
+        &dir.join("bad"),
+        &two.replace("[20.0, 20.0]", "[20.0, 0.0]"),
+    );
+    let r = run(tbi_command()
+        .arg("run")
+        .arg(&bad)
+        .args(["--quiet", "--out"])
+        .arg(dir.join("bad/out")));
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(err.contains("bridge.spans_m[1]"), "{err}");
+}
