@@ -102,13 +102,7 @@ where
         .configure_mesh()
         .x_desc("time (s)")
         .y_desc(ylabel)
-        .y_label_formatter(&|v| {
-            if v.abs() < 1e-12 * (hi - lo).abs().max(f64::MIN_POSITIVE) {
-                "0".to_string()
-            } else {
-                format!("{v:.3e}")
-            }
-        })
+        .y_label_formatter(&|v| plain(*v, hi - lo))
         .draw()
         .map_err(|e| e.to_string())?;
     for (k, (name, s)) in series.iter().enumerate() {
@@ -133,6 +127,20 @@ where
     Ok(())
 }
 
+/// A tick label in plain notation with as many decimals as the axis range needs (two
+/// significant digits of it), e.g. `0.25` or `-12`, never `2.500e-1`.
+pub(crate) fn plain(v: f64, range: f64) -> String {
+    if v.abs() < 1e-12 * range.abs().max(f64::MIN_POSITIVE) {
+        return "0".to_string();
+    }
+    let decimals = if range > 0.0 && range.is_finite() {
+        (1.0 - range.log10().floor()).clamp(0.0, 12.0) as usize
+    } else {
+        3
+    };
+    format!("{v:.decimals$}")
+}
+
 /// A panel: title, y-axis label and named series.
 pub(crate) type Panel<'a> = (&'a str, &'a str, Vec<(String, Vec<f64>)>);
 
@@ -149,33 +157,51 @@ pub(crate) fn figure(path: &Path, panels: &[Panel<'_>], t: &[f64]) -> Result<(),
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Write the run's plots next to its history.
-pub fn write_run_plots(out: &Path, model: &Model, history: &Path) -> Result<(), String> {
+/// Write the run's plots next to its history; `case` (e.g. "tsing-ma, 70 km/h") goes into
+/// every title. Readable units: deck vertical displacement in cm, lateral in mm,
+/// accelerations in cm/s².
+pub fn write_run_plots(
+    out: &Path,
+    model: &Model,
+    history: &Path,
+    case: &str,
+) -> Result<(), String> {
     let h = History::read(history)?;
     let t = h.column("time_s").ok_or("history without time_s")?.to_vec();
-    let probe_series = |suffix: &str| -> Vec<(String, Vec<f64>)> {
+    let probe_series = |suffix: &str, scale: f64| -> Vec<(String, Vec<f64>)> {
         model
             .probes
             .iter()
             .filter_map(|(name, _)| {
                 h.column(&format!("{name}.{suffix}"))
-                    .map(|c| (name.clone(), c.to_vec()))
+                    .map(|c| (name.clone(), c.iter().map(|v| v * scale).collect()))
             })
             .collect()
     };
+    let titled = |what: &str| format!("{what} — {case}");
+    let (vd, va, ld, la) = (
+        titled("Deck vertical displacement (+ down)"),
+        titled("Deck vertical acceleration"),
+        titled("Deck lateral displacement"),
+        titled("Deck lateral acceleration"),
+    );
+    let (cl, cv) = (
+        titled("Car body 1 lateral acceleration"),
+        titled("Car body 1 vertical acceleration"),
+    );
     if !model.probes.is_empty() {
         figure(
             &out.join("deck_vertical.svg"),
             &[
                 (
-                    "Deck vertical displacement (+ down)",
-                    "m",
-                    probe_series("vertical_displacement_m"),
+                    vd.as_str(),
+                    "cm",
+                    probe_series("vertical_displacement_m", 100.0),
                 ),
                 (
-                    "Deck vertical acceleration",
-                    "m/s²",
-                    probe_series("vertical_acceleration_m_s2"),
+                    va.as_str(),
+                    "cm/s²",
+                    probe_series("vertical_acceleration_m_s2", 100.0),
                 ),
             ],
             &t,
@@ -184,14 +210,14 @@ pub fn write_run_plots(out: &Path, model: &Model, history: &Path) -> Result<(), 
             &out.join("deck_lateral.svg"),
             &[
                 (
-                    "Deck lateral displacement",
-                    "m",
-                    probe_series("lateral_displacement_m"),
+                    ld.as_str(),
+                    "mm",
+                    probe_series("lateral_displacement_m", 1000.0),
                 ),
                 (
-                    "Deck lateral acceleration",
-                    "m/s²",
-                    probe_series("lateral_acceleration_m_s2"),
+                    la.as_str(),
+                    "cm/s²",
+                    probe_series("lateral_acceleration_m_s2", 100.0),
                 ),
             ],
             &t,
@@ -200,20 +226,38 @@ pub fn write_run_plots(out: &Path, model: &Model, history: &Path) -> Result<(), 
     let mut veh = Vec::new();
     if let Some(c) = h.column("veh1.lateral_acceleration_m_s2") {
         veh.push((
-            "Car body 1 lateral acceleration",
-            "m/s²",
-            vec![("lateral".to_string(), c.to_vec())],
+            cl.as_str(),
+            "cm/s²",
+            vec![("lateral".to_string(), c.iter().map(|v| 100.0 * v).collect())],
         ));
     }
     if let Some(c) = h.column("veh1.vertical_acceleration_m_s2") {
         veh.push((
-            "Car body 1 vertical acceleration",
-            "m/s²",
-            vec![("vertical".to_string(), c.to_vec())],
+            cv.as_str(),
+            "cm/s²",
+            vec![(
+                "vertical".to_string(),
+                c.iter().map(|v| 100.0 * v).collect(),
+            )],
         ));
     }
     if !veh.is_empty() {
         figure(&out.join("vehicle1_acceleration.svg"), &veh, &t)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain;
+
+    #[test]
+    fn tick_labels_are_plain_numbers() {
+        assert_eq!(plain(0.5, 1.0), "0.5");
+        assert_eq!(plain(0.25, 0.5), "0.25");
+        assert_eq!(plain(-12.0, 40.0), "-12");
+        assert_eq!(plain(0.0012, 0.004), "0.0012");
+        assert_eq!(plain(1e-20, 1.0), "0");
+        assert!(!plain(3.5e-4, 1e-3).contains('e'));
+    }
 }

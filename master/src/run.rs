@@ -125,8 +125,17 @@ pub fn run_scenario(
     // The plots come before the summary, so that `"status": "ok"` is only ever written for
     // a run that succeeded as a whole.
     let result = result.and_then(|coupling| {
-        crate::plots::write_run_plots(out, &model, &history)
-            .map_err(|e| format!("plots in {}: {e}", out.display()))?;
+        crate::plots::write_run_plots(
+            out,
+            &model,
+            &history,
+            &format!(
+                "{}, {} km/h",
+                scenario.name,
+                crate::model::num(scenario.run.speed_kmh)
+            ),
+        )
+        .map_err(|e| format!("plots in {}: {e}", out.display()))?;
         Ok(coupling)
     });
     match result {
