@@ -20,8 +20,10 @@ use tbi_dynamics::response::ProbeMax;
 pub struct SweepArgs {
     /// Scenario file (TOML). Default: the embedded Tsing Ma case.
     pub scenario: Option<PathBuf>,
-    /// Speeds, km/h: comma separated, or `start:stop:step` (stop included).
-    #[arg(long, default_value = "20,40,70,120", value_delimiter = ',')]
+    /// Speeds, km/h: comma separated, or `start:stop:step` (stop included). Default: the
+    /// paper's 20,40,70,120; with `--trains`, EN 1991-2 §6.4.6: from 40 m/s (144 km/h) to
+    /// 1.2 × the scenario's speed (its line speed) in 2.5 km/h steps.
+    #[arg(long, value_delimiter = ',')]
     pub speeds: Vec<String>,
     /// Trains replacing the scenario's: `hslm-a` (A1–A10) or names such as `A1,A4`.
     #[arg(long, value_delimiter = ',')]
@@ -151,8 +153,22 @@ pub fn parse_speeds(items: &[String]) -> Result<Vec<f64>, String> {
 }
 
 pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let speeds = parse_speeds(&args.speeds)?;
     let base = crate::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)?;
+    let speeds = match (args.speeds.is_empty(), args.trains.is_empty()) {
+        (false, _) => parse_speeds(&args.speeds)?,
+        (true, true) => PAPER_SPEEDS.to_vec(),
+        (true, false) => {
+            let top = 1.2 * base.run.speed_kmh;
+            if top < 144.0 {
+                return Err(format!(
+                    "--speeds: the default range 144 km/h to 1.2 × the scenario's {} km/h is empty; give --speeds",
+                    crate::model::num(base.run.speed_kmh)
+                )
+                .into());
+            }
+            parse_speeds(&[format!("144:{top}:2.5")])?
+        }
+    };
     if !args.trains.is_empty() {
         return crate::envelope::main(&args, &base, &speeds);
     }

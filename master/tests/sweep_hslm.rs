@@ -608,3 +608,23 @@ fn a_two_span_continuous_beam() {
     assert_eq!(r.status.code(), Some(1), "{err}");
     assert!(err.contains("bridge.spans_m[1]"), "{err}");
 }
+
+/// Without `--speeds`, a trains sweep runs EN 1991-2's range: 144 km/h (40 m/s) to 1.2 × the
+/// scenario's line speed (300 km/h here) in 2.5 km/h steps.
+#[test]
+fn the_default_speed_range_of_a_trains_sweep() {
+    let dir = scratch("sweep-default-speeds");
+    let s = scenario(&dir, SPAN);
+    run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args(["--trains", "A1", "--out"])
+            .arg(dir.join("sweep")),
+    );
+    let rows = envelope(&dir.join("sweep/envelope.csv"));
+    let speeds: Vec<f64> = rows.iter().map(|r| r.1).collect();
+    assert_eq!(speeds.len(), 87, "{speeds:?}");
+    assert_eq!(speeds[0], 144.0);
+    assert_eq!(*speeds.last().unwrap(), 359.0);
+}
