@@ -192,6 +192,7 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     let results: Vec<Result<Summary, String>> = cases
         .par_iter()
         .map(|(v, s)| {
+            let v = crate::model::num(*v);
             let dir = args.out.join(format!("v{v}"));
             run_scenario(s, &dir, false, &limits).map_err(|e| format!("{v} km/h: {e}"))
         })
@@ -216,6 +217,7 @@ pub fn tables(speeds: &[f64], summaries: &[Summary]) -> (String, String) {
     let mut md = String::from("| Response | Unit |");
     let mut csv = String::from("response,unit");
     for v in speeds {
+        let v = crate::model::num(*v);
         let _ = write!(md, " {v} km/h: ours | paper | ratio |");
         let _ = write!(csv, ",ours_{v}_kmh,paper_{v}_kmh,ratio_{v}_kmh");
     }

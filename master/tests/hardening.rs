@@ -215,6 +215,20 @@ fn numbers_in_messages_are_short() {
     let err = text(&out.stderr);
     assert!(err.contains("= 1e-300"), "{err}");
     assert!(err.len() < 400, "{err}");
+    // a sweep names the speed short too, and makes no folder named by 300 digits
+    let s = c.scenario(&[]);
+    let out = c.tbi(&[
+        "sweep",
+        s.to_str().unwrap(),
+        "--speeds",
+        "1e-300",
+        "--out",
+        "sw",
+    ]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("1e-300 km/h") && err.len() < 600, "{err}");
+    assert!(c.files().iter().all(|f| f.len() < 100), "{:?}", c.files());
 }
 
 #[test]
