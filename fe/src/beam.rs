@@ -1,6 +1,8 @@
-//! Continuous beams over several spans (vertical bending), by the frame elements of
+//! Beams over several spans (vertical bending), by the frame elements of
 //! [`crate::structure`]: a straight member along x with `elements_per_span` Euler–Bernoulli
-//! elements per span, a vertical support at every span end (pinned, rotation free), the
+//! elements per span, a vertical support at every span end (pinned, rotation free),
+//! continuous over the interior supports or, for a chain of simply supported spans, hinged
+//! there (two nodes at the support, their rotations not tied), the
 //! axial, lateral and torsional DOFs restrained so that only vertical bending modes remain.
 //! The modes are mass-normalised (φᵀ M φ = 1 with the consistent mass of the elements) and
 //! returned as a [`ModeSet`] (vertical component + downward).
@@ -22,6 +24,8 @@ pub struct ContinuousBeam {
     pub mass_per_length_kg_m: f64,
     /// Elements per span (accuracy of the modes). Default 40.
     pub elements_per_span: usize,
+    /// Continuous over the interior supports (`true`), or a chain of simply supported spans.
+    pub continuous: bool,
 }
 
 impl ContinuousBeam {
@@ -46,24 +50,30 @@ impl ContinuousBeam {
         let mut nodes = vec![s.add_node([0.0, 0.0, 0.0])];
         let mut supports = vec![nodes[0]];
         let mut at = 0.0;
-        for &l in &self.spans_m {
+        let mut all = nodes.clone();
+        for (i, &l) in self.spans_m.iter().enumerate() {
+            // a chain starts each span after the first on a node of its own at the support
+            let mut last = *nodes.last().expect("a node");
+            if i > 0 && !self.continuous {
+                let start = s.add_node([at, 0.0, 0.0]);
+                s.tie(last, start, &[Dof::Ux, Dof::Uz])?;
+                all.push(start);
+                supports.push(start);
+                last = start;
+            }
             for k in 1..=ne {
                 let xi = at + l * k as f64 / ne as f64;
                 let node = s.add_node([xi, 0.0, 0.0]);
-                s.add_beam(
-                    *nodes.last().expect("a node"),
-                    node,
-                    &section,
-                    [0.0, 1.0, 0.0],
-                    0.0,
-                )?;
+                s.add_beam(last, node, &section, [0.0, 1.0, 0.0], 0.0)?;
+                last = node;
                 nodes.push(node);
+                all.push(node);
                 x.push(xi);
             }
             at += l;
             supports.push(*nodes.last().expect("a node"));
         }
-        for &node in &nodes {
+        for &node in &all {
             s.fix(node, &[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Rz])?;
         }
         for &node in &supports {
@@ -115,6 +125,7 @@ mod tests {
             inertia_m4: i,
             mass_per_length_kg_m: m,
             elements_per_span: 40,
+            continuous: true,
         };
         let set = beam.modes(3).unwrap();
         let c = (e * i / m).sqrt() / (2.0 * std::f64::consts::PI);
@@ -134,9 +145,30 @@ mod tests {
         }
         assert!(ContinuousBeam {
             spans_m: vec![l, 0.0],
-            ..beam
+            ..beam.clone()
         }
         .modes(1)
         .is_err());
+
+        // hinged at the middle support: two simply supported spans, both first modes at
+        // (π/L)² √(EI/m), the next pair at (2π/L)²
+        let chain = ContinuousBeam {
+            continuous: false,
+            ..beam
+        };
+        let set = chain.modes(3).unwrap();
+        let got: Vec<f64> = set.modes.iter().map(|m| m.frequency_hz).collect();
+        assert!((got[0] / f1 - 1.0).abs() < 1e-3, "{got:?} vs {f1}");
+        assert!((got[1] / f1 - 1.0).abs() < 1e-3, "{got:?} vs {f1}");
+        let f_second = (2.0 * std::f64::consts::PI / l).powi(2) * c;
+        assert!(
+            (got[2] / f_second - 1.0).abs() < 1e-3,
+            "{got:?} vs {f_second}"
+        );
+        assert_eq!(
+            set.x_m.len(),
+            81,
+            "one node of the middle support in the mode set"
+        );
     }
 }

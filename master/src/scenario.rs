@@ -436,6 +436,8 @@ struct FileBridge {
     span_m: Option<f64>,
     // beam
     spans_m: Option<Vec<f64>>,
+    /// `kind = "beam"`: `"continuous"` (default) or `"simply_supported"` (a chain of spans).
+    supports: Option<String>,
     youngs_modulus_pa: Option<f64>,
     inertia_vertical_m4: Option<f64>,
     inertia_lateral_m4: Option<f64>,
@@ -728,6 +730,12 @@ impl Check<'_> {
                 interpolation_points,
             })
         };
+        if b.kind != "beam" {
+            refuse(&[
+                ("spans_m", b.spans_m.is_some()),
+                ("supports", b.supports.is_some()),
+            ])?;
+        }
         match b.kind.as_str() {
             "simply_supported" => {
                 let required = |name: &str, v: Option<f64>| match v {
@@ -823,6 +831,17 @@ impl Check<'_> {
                 ])?;
                 let x_start_m = b.x_start_m.unwrap_or(0.0);
                 self.finite("bridge.x_start_m", x_start_m)?;
+                let continuous = match b.supports.as_deref().unwrap_or("continuous") {
+                    "continuous" => true,
+                    "simply_supported" => false,
+                    other => {
+                        return Err(self.err(
+                            "bridge.supports",
+                            format!("\"{other}\""),
+                            "expected \"continuous\" or \"simply_supported\" (a chain of spans)",
+                        ))
+                    }
+                };
                 Ok(Bridge::Beam {
                     beam: tbi_fe::beam::ContinuousBeam {
                         spans_m: spans,
@@ -830,6 +849,7 @@ impl Check<'_> {
                         inertia_m4,
                         mass_per_length_kg_m: mass,
                         elements_per_span: 40,
+                        continuous,
                     },
                     x_start_m,
                     modal: ModalOptions {
@@ -838,7 +858,10 @@ impl Check<'_> {
                         damping_ratio_torsional,
                         track_eccentricity_m: b.track_eccentricity_m.unwrap_or(0.0),
                         track_height_m: b.track_height_m.unwrap_or(0.0),
-                        interpolation_points: b.interpolation_points.unwrap_or(4),
+                        // linear between the nodes of a chain: no smoothing over its hinges
+                        interpolation_points: b
+                            .interpolation_points
+                            .unwrap_or(if continuous { 4 } else { 2 }),
                     },
                 })
             }

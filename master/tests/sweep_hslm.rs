@@ -564,7 +564,8 @@ fn a_train_from_an_axles_csv() {
 
 /// `kind = "beam"`: two equal continuous spans; the first two frequencies of the run's
 /// bridge equal the closed forms (π/L)² √(EI/m) and (3.9266/L)² √(EI/m) over 2π, to 0.1 %;
-/// a zero span is refused by name.
+/// as a chain of simply supported spans both first modes are the single span's; a zero span
+/// is refused by name.
 #[test]
 fn a_two_span_continuous_beam() {
     let dir = scratch("two-span");
@@ -595,6 +596,26 @@ fn a_two_span_continuous_beam() {
     assert!((f[0] / f1 - 1.0).abs() < 1e-3, "{f:?} vs {f1}");
     assert!((f[1] / f2 - 1.0).abs() < 1e-3, "{f:?} vs {f2}");
     assert_eq!(summary["bridge"]["length_m"].as_f64(), Some(40.0));
+    // a chain of the same two spans: both first modes are the single span's
+    let chain = scenario(
+        &dir.join("chain"),
+        &two.replace(
+            "spans_m = [20.0, 20.0]",
+            "spans_m = [20.0, 20.0]\nsupports = \"simply_supported\"",
+        ),
+    );
+    run_ok(
+        tbi_command()
+            .arg("run")
+            .arg(&chain)
+            .args(["--quiet", "--out"])
+            .arg(dir.join("chain/out")),
+    );
+    let g = read_summary(&dir.join("chain/out"))["bridge"]["frequencies_hz"].clone();
+    for k in [0, 1] {
+        let fk = g[k].as_f64().unwrap();
+        assert!((fk / f1 - 1.0).abs() < 1e-3, "chain: {g} vs {f1}");
+    }
     let bad = scenario(
         &dir.join("bad"),
         &two.replace("[20.0, 20.0]", "[20.0, 0.0]"),
