@@ -19,7 +19,6 @@ use crate::coupling::CouplingStatistics;
 use crate::coupling::{
     advance, build_scheme, AccelerationKind, CouplingConfig, Discrete, SchemeKind,
 };
-use model_description::VariableKind;
 use std::io::Write;
 use std::path::PathBuf;
 use std::str::FromStr;
@@ -209,14 +208,8 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .model_description()
             .variable(&v)
             .ok_or_else(|| format!("--record {r}: component \"{c}\" has no variable \"{v}\""))?;
-        let kind = match var.kind {
-            VariableKind::Real(_) => None,
-            VariableKind::Integer(_) | VariableKind::Enumeration(_) => Some(Discrete::Integer),
-            VariableKind::Boolean(_) => Some(Discrete::Boolean),
-            VariableKind::String(_) => {
-                return Err(format!("--record {r}: a String variable cannot be recorded").into())
-            }
-        };
+        let kind = crate::ssp::exchanged_kind(&var.kind)
+            .ok_or_else(|| format!("--record {r}: a String variable cannot be recorded"))?;
         columns.push((r.clone(), i, var.value_reference, kind));
     }
     let output = args.output.clone().unwrap_or_else(|| {

@@ -95,11 +95,6 @@ pub fn main(
         "direct" => (5.0, "direct fastening"),
         other => return Err(format!("--track {other}: expected ballasted or direct").into()),
     };
-    for (i, v) in speeds.iter().enumerate() {
-        if speeds[..i].contains(v) {
-            return Err(format!("--speeds: {} km/h is given twice", crate::model::num(*v)).into());
-        }
-    }
     let mut cases = Vec::with_capacity(trains.len() * speeds.len());
     for t in &trains {
         let axles = tbi_dynamics::hslm::hslm_a(t)?;

@@ -332,17 +332,23 @@ fn connectable_variable<'a>(
     let v = md
         .variable(name)
         .ok_or_else(|| format!("{origin}: component \"{component}\" has no variable \"{name}\""))?;
-    let kind = match v.kind {
-        VariableKind::Real(_) => None,
-        VariableKind::Integer(_) | VariableKind::Enumeration(_) => Some(Discrete::Integer),
-        VariableKind::Boolean(_) => Some(Discrete::Boolean),
-        VariableKind::String(_) => {
-            return Err(format!(
-                "{origin}: {component}.{name} is a String variable; Real, Integer and Boolean connections are coupled"
-            ))
-        }
-    };
+    let kind = exchanged_kind(&v.kind).ok_or_else(|| {
+        format!(
+            "{origin}: {component}.{name} is a String variable; Real, Integer and Boolean connections are coupled"
+        )
+    })?;
     Ok((v, kind))
+}
+
+/// How a variable's values are exchanged: `Some(None)` as Reals, `Some(Some(kind))` as
+/// Integers (Enumerations too) or Booleans, `None` not at all (Strings).
+pub(crate) fn exchanged_kind(kind: &VariableKind) -> Option<Option<Discrete>> {
+    match kind {
+        VariableKind::Real(_) => Some(None),
+        VariableKind::Integer(_) | VariableKind::Enumeration(_) => Some(Some(Discrete::Integer)),
+        VariableKind::Boolean(_) => Some(Some(Discrete::Boolean)),
+        VariableKind::String(_) => None,
+    }
 }
 
 /// One Integer or Boolean (0/1) value of an instance.

@@ -112,7 +112,8 @@ pub const TABLE2: [Row; 8] = [
 ];
 
 /// The speeds of `--speeds`: numbers, or `start:stop:step` ranges (stop included when it
-/// is a whole number of steps from the start, to 1e-9 of a step).
+/// is a whole number of steps from the start, to 1e-9 of a step); a speed given twice is
+/// refused.
 pub fn parse_speeds(items: &[String]) -> Result<Vec<f64>, String> {
     let number = |t: &str| -> Result<f64, String> {
         t.trim()
@@ -149,6 +150,14 @@ pub fn parse_speeds(items: &[String]) -> Result<Vec<f64>, String> {
     if speeds.is_empty() {
         return Err("--speeds: give at least one speed".into());
     }
+    for (i, v) in speeds.iter().enumerate() {
+        if speeds[..i].contains(v) {
+            return Err(format!(
+                "--speeds: {} km/h is given twice",
+                crate::model::num(*v)
+            ));
+        }
+    }
     Ok(speeds)
 }
 
@@ -173,10 +182,7 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
         return crate::envelope::main(&args, &base, &speeds);
     }
     let mut cases = Vec::with_capacity(speeds.len());
-    for (i, &v) in speeds.iter().enumerate() {
-        if speeds[..i].contains(&v) {
-            return Err(format!("--speeds: {} km/h is given twice", crate::model::num(v)).into());
-        }
+    for &v in &speeds {
         let mut s = base.clone();
         s.set_speed_kmh(v).map_err(|e| format!("--speeds: {e}"))?;
         cases.push((v, s));

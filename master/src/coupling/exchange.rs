@@ -34,10 +34,6 @@ pub(crate) struct Exchange {
     pub feedback_slots: Vec<usize>,
     /// `(from, to)` participants of the first feedback connection of each unknown.
     pub feedback_pairs: Vec<(usize, usize)>,
-    /// Declared unit of each unknown's source output ([`Participant::unit`]).
-    ///
-    /// [`Participant::unit`]: super::system::Participant::unit
-    pub feedback_units: Vec<Option<String>>,
     scratch: Vec<f64>,
     participants: usize,
     connections: usize,
@@ -58,7 +54,6 @@ impl Exchange {
             values: Vec::new(),
             feedback_slots: Vec::new(),
             feedback_pairs: Vec::new(),
-            feedback_units: Vec::new(),
             scratch: Vec::new(),
             participants: np,
             connections: sys.connections.len(),
@@ -99,8 +94,6 @@ impl Exchange {
                     None => {
                         ex.feedback_slots.push(slot);
                         ex.feedback_pairs.push((c.from, c.to));
-                        ex.feedback_units
-                            .push(sys.participants[c.from].unit(c.from_vr).map(str::to_owned));
                         ex.feedback_slots.len() - 1
                     }
                 })
