@@ -108,9 +108,46 @@ pub fn hslm_a(name: &str) -> Result<Vec<MovingForceAxle>, String> {
         .ok_or_else(|| format!("\"{name}\" is not an HSLM-A train (A1 … A10)"))
 }
 
+/// HSLM-B's point force, N (EN 1991-2 §6.4.6.1.1: N point forces of 170 kN at a uniform
+/// spacing d).
+pub const HSLM_B_FORCE_N: f64 = 170e3;
+
+/// HSLM-B, the load model of simply supported spans under 7 m: `forces` point forces of
+/// 170 kN at a uniform `spacing_m`. The standard gives N and d as functions of the span in a
+/// figure of §6.4.6.1.1, which the user reads for the span; they are not derived here.
+pub fn hslm_b(forces: usize, spacing_m: f64) -> Result<Vec<MovingForceAxle>, String> {
+    if forces == 0 {
+        return Err("forces = 0: HSLM-B needs at least one point force".into());
+    }
+    if !(spacing_m.is_finite() && spacing_m > 0.0) {
+        return Err(format!(
+            "spacing_m = {spacing_m}: must be a positive finite number"
+        ));
+    }
+    Ok((0..forces)
+        .map(|i| MovingForceAxle {
+            offset_m: i as f64 * spacing_m,
+            load_n: HSLM_B_FORCE_N,
+        })
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn hslm_b_is_n_forces_of_170_kn_at_d() {
+        let b = hslm_b(12, 3.25).unwrap();
+        assert_eq!(b.len(), 12);
+        assert!(b.iter().all(|a| a.load_n == 170e3));
+        for (i, a) in b.iter().enumerate() {
+            assert!((a.offset_m - 3.25 * i as f64).abs() < 1e-12);
+        }
+        assert!(hslm_b(0, 3.0).unwrap_err().contains("forces = 0"));
+        assert!(hslm_b(10, 0.0).unwrap_err().contains("spacing_m = 0"));
+        assert!(hslm_b(10, f64::NAN).is_err());
+    }
 
     /// HSLM-A1 from caldintav's `trains/a01.def` (UPM Madrid), first and last 12 axles.
     #[test]

@@ -11,17 +11,24 @@ use crate::error::FeError;
 use crate::structure::{BeamSection, Dof, Structure};
 use tbi_modes::{Mode, ModeSet};
 
-/// A prismatic beam continuous over `spans_m`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ContinuousBeam {
-    /// Span lengths, m, from the first support.
-    pub spans_m: Vec<f64>,
+/// The section of one span (uniform along it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpanSection {
     /// Young's modulus E, Pa.
     pub youngs_modulus_pa: f64,
     /// Second moment of area for vertical bending, m⁴.
     pub inertia_m4: f64,
     /// Mass per length, kg/m.
     pub mass_per_length_kg_m: f64,
+}
+
+/// A beam continuous over `spans_m` (or a chain of them), each span with its own section.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContinuousBeam {
+    /// Span lengths, m, from the first support.
+    pub spans_m: Vec<f64>,
+    /// The section of each span, as many as `spans_m`.
+    pub sections: Vec<SpanSection>,
     /// Elements per span (accuracy of the modes). Default 40.
     pub elements_per_span: usize,
     /// Continuous over the interior supports (`true`), or a chain of simply supported spans.
@@ -29,6 +36,16 @@ pub struct ContinuousBeam {
 }
 
 impl ContinuousBeam {
+    /// Every span with the same section.
+    pub fn prismatic(spans_m: Vec<f64>, section: SpanSection, continuous: bool) -> Self {
+        ContinuousBeam {
+            sections: vec![section; spans_m.len()],
+            spans_m,
+            elements_per_span: 40,
+            continuous,
+        }
+    }
+
     /// The lowest `n` vertical modes, labelled `V-1`, `V-2`, …, at the nodes (x from 0 at the
     /// first support).
     pub fn modes(&self, n: usize) -> Result<ModeSet, FeError> {
@@ -38,12 +55,13 @@ impl ContinuousBeam {
                 self.spans_m
             )));
         }
-        let section = BeamSection {
-            e: self.youngs_modulus_pa,
-            iy: self.inertia_m4,
-            mass_per_length: self.mass_per_length_kg_m,
-            ..BeamSection::default()
-        };
+        if self.sections.len() != self.spans_m.len() {
+            return Err(FeError::Definition(format!(
+                "{} sections for {} spans: give one section per span",
+                self.sections.len(),
+                self.spans_m.len()
+            )));
+        }
         let ne = self.elements_per_span.max(2);
         let mut s = Structure::new();
         let mut x = vec![0.0];
@@ -51,7 +69,13 @@ impl ContinuousBeam {
         let mut supports = vec![nodes[0]];
         let mut at = 0.0;
         let mut all = nodes.clone();
-        for (i, &l) in self.spans_m.iter().enumerate() {
+        for (i, (&l, sec)) in self.spans_m.iter().zip(&self.sections).enumerate() {
+            let section = BeamSection {
+                e: sec.youngs_modulus_pa,
+                iy: sec.inertia_m4,
+                mass_per_length: sec.mass_per_length_kg_m,
+                ..BeamSection::default()
+            };
             // a chain starts each span after the first on a node of its own at the support
             let mut last = *nodes.last().expect("a node");
             if i > 0 && !self.continuous {
@@ -119,14 +143,12 @@ mod tests {
     #[test]
     fn two_equal_spans_match_the_closed_forms() {
         let (l, e, i, m) = (20.0, 3.5e10, 1.2, 12_000.0);
-        let beam = ContinuousBeam {
-            spans_m: vec![l, l],
+        let section = SpanSection {
             youngs_modulus_pa: e,
             inertia_m4: i,
             mass_per_length_kg_m: m,
-            elements_per_span: 40,
-            continuous: true,
         };
+        let beam = ContinuousBeam::prismatic(vec![l, l], section, true);
         let set = beam.modes(3).unwrap();
         let c = (e * i / m).sqrt() / (2.0 * std::f64::consts::PI);
         let f1 = (std::f64::consts::PI / l).powi(2) * c;
@@ -149,6 +171,14 @@ mod tests {
         }
         .modes(1)
         .is_err());
+        assert!(ContinuousBeam {
+            sections: vec![section],
+            ..beam.clone()
+        }
+        .modes(1)
+        .unwrap_err()
+        .to_string()
+        .contains("1 sections for 2 spans"));
 
         // hinged at the middle support: two simply supported spans, both first modes at
         // (π/L)² √(EI/m), the next pair at (2π/L)²
@@ -170,5 +200,55 @@ mod tests {
             81,
             "one node of the middle support in the mode set"
         );
+    }
+
+    /// A chain of two simply supported spans of different lengths and sections: each span
+    /// vibrates alone, so the modes are the union of the two spans' closed forms
+    /// fₙ = (nπ/L)² √(EI/m) / 2π, to 0.1 %.
+    #[test]
+    fn a_chain_of_different_spans_is_the_union_of_their_modes() {
+        let a = SpanSection {
+            youngs_modulus_pa: 3.5e10,
+            inertia_m4: 1.2,
+            mass_per_length_kg_m: 12_000.0,
+        };
+        let b = SpanSection {
+            youngs_modulus_pa: 3.0e10,
+            inertia_m4: 0.5,
+            mass_per_length_kg_m: 9_000.0,
+        };
+        let (la, lb) = (20.0, 15.0);
+        let chain = ContinuousBeam {
+            spans_m: vec![la, lb],
+            sections: vec![a, b],
+            elements_per_span: 40,
+            continuous: false,
+        };
+        let f = |n: f64, l: f64, s: &SpanSection| {
+            (n * std::f64::consts::PI / l).powi(2)
+                * (s.youngs_modulus_pa * s.inertia_m4 / s.mass_per_length_kg_m).sqrt()
+                / (2.0 * std::f64::consts::PI)
+        };
+        let mut expected: Vec<f64> = (1..=3)
+            .flat_map(|n| [f(n as f64, la, &a), f(n as f64, lb, &b)])
+            .collect();
+        expected.sort_by(f64::total_cmp);
+        let got: Vec<f64> = chain
+            .modes(4)
+            .unwrap()
+            .modes
+            .iter()
+            .map(|m| m.frequency_hz)
+            .collect();
+        for (g, e) in got.iter().zip(&expected) {
+            assert!((g / e - 1.0).abs() < 1e-3, "{got:?} vs {expected:?}");
+        }
+        // swapping the sections changes the modes: each section belongs to its span
+        let swapped = ContinuousBeam {
+            sections: vec![b, a],
+            ..chain
+        };
+        let f1 = swapped.modes(1).unwrap().modes[0].frequency_hz;
+        assert!((f1 / f(1.0, la, &b) - 1.0).abs() < 1e-3, "{f1}");
     }
 }

@@ -1,25 +1,28 @@
 //! `tbi sweep --trains …`: every train at every speed on the scenario's bridge, in parallel
 //! on every core, and the envelope of the deck response.
 //!
-//! Each case is the scenario with its train replaced by the named train as moving forces
-//! ([`tbi_dynamics::hslm`]) and its speed set; the runs go to `OUT/<train>/v<speed>`. The
+//! Each case is the scenario with its train replaced by the named train ([`tbi_dynamics::hslm`])
+//! as moving forces, or as sprung masses when the scenario's train has a `vehicle`, and its
+//! speed set; the bridge keeps the modes up to max(30 Hz, 1.5 f₁, f₃) (EN 1990 A2.4.4.2.1;
+//! `--all-modes` keeps all); the runs go to `OUT/<train>/v<speed>`. The
 //! envelope (`envelope.csv`, one row per train and speed) has the largest deck vertical
 //! acceleration and displacement over the probes, the largest static displacement of the
 //! train crossing (the modal static response Σₙ φₙ(x_p) Σⱼ Pⱼ ψₙ(xⱼ)/ωₙ² maximised over the
 //! train's positions, with the modes kept) and the dynamic enhancement
-//! φ'dyn = max y_dyn / max y_stat − 1 at the probe where it is largest.
+//! φ'dyn = max y_dyn / max y_stat − 1 at the probe where it is largest, and, with vehicles,
+//! the largest car-body vertical acceleration.
 //!
 //! Checks printed at the end: the deck acceleration against EN 1990 A2.4.4.2.1 (3.5 m/s²
 //! ballasted track, 5 m/s² direct fastening: `--track`), with the governing train and speed,
-//! and whether the modes kept reach max(30 Hz, 1.5 f₁, f₃); the first resonance speeds
-//! v = f₁ D / i (D the coach length of the governing train, i = 1, 2, 3).
+//! and whether the modes kept reach max(30 Hz, 1.5 f₁, f₃); with vehicles, the car-body
+//! vertical acceleration against a comfort level of EN 1990 Table A2.9 (`--comfort`); the
+//! first resonance speeds v = f₁ D / i (D the coach length of the governing train, i = 1, 2, 3).
 
 use crate::run::run_scenario;
 use crate::scenario::Scenario;
 use crate::sweep::SweepArgs;
 use rayon::prelude::*;
 use std::fmt::Write as _;
-use tbi_dynamics::interface::TrainSpec;
 
 /// The trains `--trains` names: `hslm-a` for A1–A10, or names such as `A1`.
 pub fn train_names(items: &[String]) -> Result<Vec<String>, String> {
@@ -45,9 +48,44 @@ pub fn train_names(items: &[String]) -> Result<Vec<String>, String> {
     Ok(names)
 }
 
-/// One case's result: (train, speed km/h, deck vertical acceleration max m/s², deck vertical
-/// displacement max m, φ'dyn).
-type Row = (String, f64, f64, f64, f64);
+/// One case's result.
+struct Row {
+    train: String,
+    speed_kmh: f64,
+    /// Deck vertical acceleration, largest over the probes, m/s².
+    acceleration: f64,
+    /// Deck vertical displacement, largest over the probes, m.
+    displacement: f64,
+    /// φ'dyn at the probe where it is largest, –.
+    phi: f64,
+    /// Car-body vertical acceleration, largest over the vehicles, m/s² (vehicles only).
+    body: Option<f64>,
+}
+
+/// EN 1990 Table A2.9: the car-body vertical acceleration b_v of each comfort level, m/s².
+pub fn comfort_limit(level: &str) -> Result<f64, String> {
+    match level {
+        "very-good" => Ok(1.0),
+        "good" => Ok(1.3),
+        "acceptable" => Ok(2.0),
+        other => Err(format!(
+            "--comfort {other}: expected very-good (1.0 m/s²), good (1.3 m/s²) or acceptable (2.0 m/s²)"
+        )),
+    }
+}
+
+/// The number of the lowest modes up to max(30 Hz, 1.5 f₁, f₃) (EN 1990 A2.4.4.2.1), and
+/// that frequency, for frequencies in ascending order.
+pub fn modes_considered(frequencies_hz: &[f64]) -> (usize, f64) {
+    let f = frequencies_hz;
+    let needed = 30.0_f64
+        .max(1.5 * f.first().copied().unwrap_or(0.0))
+        .max(f.get(2).copied().unwrap_or(0.0));
+    (
+        f.iter().take_while(|&&x| x <= needed).count().max(1),
+        needed,
+    )
+}
 
 /// The largest static deck vertical displacement at `x_probe` of the moving forces `axles`
 /// crossing the bridge (modal static response with the modes kept), over first-axle
@@ -95,12 +133,31 @@ pub fn main(
         "direct" => (5.0, "direct fastening"),
         other => return Err(format!("--track {other}: expected ballasted or direct").into()),
     };
+    let comfort = comfort_limit(&args.comfort)?;
+    let vehicles = base.train.axle_vehicle.is_some();
+    // the modes EN 1990 A2.4.4.2.1 considers
+    let mut base = base.clone();
+    let all = crate::model::build_bridge(&base)?;
+    let ascending = all.frequencies_hz.windows(2).all(|w| w[0] <= w[1]);
+    let (considered, needed) = modes_considered(&all.frequencies_hz);
+    if !args.all_modes && ascending && considered < all.n_modes() {
+        base.bridge.set_modes(considered);
+        println!(
+            "modes: the lowest {considered} of {}, up to max(30 Hz, 1.5 f₁, f₃) = {needed:.1} Hz (EN 1990 A2.4.4.2.1; --all-modes keeps all)",
+            all.n_modes()
+        );
+    }
+    let base = &base;
+    let bridge = crate::model::build_bridge(base)?;
     let mut cases = Vec::with_capacity(trains.len() * speeds.len());
     for t in &trains {
-        let axles = tbi_dynamics::hslm::hslm_a(t)?;
+        let spec = base
+            .train
+            .axle_train(tbi_dynamics::hslm::hslm_a(t)?)
+            .map_err(|e| format!("{t} with train.vehicle: {e}"))?;
         for &v in speeds {
             let mut s = base.clone();
-            s.train.spec = TrainSpec::MovingForce(axles.clone());
+            s.train.spec = spec.clone();
             s.set_speed_kmh(v).map_err(|e| format!("--speeds: {e}"))?;
             cases.push((t.clone(), v, s));
         }
@@ -111,7 +168,6 @@ pub fn main(
     } else {
         crate::model::Limits::default()
     };
-    let bridge = crate::model::build_bridge(base)?;
     // per train and probe: the largest static displacement
     let mut statics: std::collections::HashMap<(String, String), f64> = Default::default();
     for t in &trains {
@@ -141,13 +197,14 @@ pub fn main(
                             (st > 0.0).then(|| p.vertical_displacement_max_m / st - 1.0)
                         })
                         .fold(f64::NEG_INFINITY, f64::max);
-                    (
-                        t.clone(),
-                        *v,
-                        max(|p| p.vertical_acceleration_max_m_s2),
-                        max(|p| p.vertical_displacement_max_m),
+                    Row {
+                        train: t.clone(),
+                        speed_kmh: *v,
+                        acceleration: max(|p| p.vertical_acceleration_max_m_s2),
+                        displacement: max(|p| p.vertical_displacement_max_m),
                         phi,
-                    )
+                        body: vehicles.then_some(summary.vehicles.vertical_acceleration_max_m_s2),
+                    }
                 })
                 .map_err(|e| format!("{t} at {} km/h: {e}", crate::model::num(*v)));
             pb.inc(1);
@@ -157,15 +214,20 @@ pub fn main(
     pb.finish_and_clear();
     let rows: Vec<Row> = results.into_iter().collect::<Result<_, _>>()?;
     let mut csv = String::from(
-        "train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m,deck_static_displacement_max_m,phi_dyn\n",
+        "train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m,deck_static_displacement_max_m,phi_dyn,car_body_acceleration_max_m_s2\n",
     );
-    for (t, v, a, d, phi) in &rows {
+    for r in &rows {
         let st = base
             .probes
             .iter()
-            .map(|p| statics[&(t.clone(), p.name.clone())])
+            .map(|p| statics[&(r.train.clone(), p.name.clone())])
             .fold(0.0, f64::max);
-        let _ = writeln!(csv, "{t},{v:e},{a:e},{d:e},{st:e},{phi:e}");
+        let body = r.body.map(|b| format!("{b:e}")).unwrap_or_default();
+        let _ = writeln!(
+            csv,
+            "{},{:e},{:e},{:e},{st:e},{:e},{body}",
+            r.train, r.speed_kmh, r.acceleration, r.displacement, r.phi
+        );
     }
     crate::outdir::write_atomically(&args.out.join("envelope.csv"), csv.as_bytes())?;
     let governing = |key: fn(&Row) -> f64| {
@@ -173,45 +235,58 @@ pub fn main(
             .max_by(|a, b| key(a).total_cmp(&key(b)))
             .expect("at least one case")
     };
-    let a = governing(|r| r.2);
-    let d = governing(|r| r.3);
+    let num = crate::model::num;
+    let a = governing(|r| r.acceleration);
+    let d = governing(|r| r.displacement);
     println!(
         "deck vertical acceleration: largest {:.4} m/s² ({} at {} km/h)",
-        a.2,
-        a.0,
-        crate::model::num(a.1)
+        a.acceleration,
+        a.train,
+        num(a.speed_kmh)
     );
     println!(
         "deck vertical displacement: largest {:.6} m ({} at {} km/h)",
-        d.3,
-        d.0,
-        crate::model::num(d.1)
+        d.displacement,
+        d.train,
+        num(d.speed_kmh)
     );
-    let phi = governing(|r| r.4);
+    let phi = governing(|r| r.phi);
     println!(
         "dynamic enhancement φ'dyn: largest {:.3} ({} at {} km/h)",
-        phi.4,
-        phi.0,
-        crate::model::num(phi.1)
+        phi.phi,
+        phi.train,
+        num(phi.speed_kmh)
     );
     println!(
         "check deck acceleration ≤ {limit} m/s² ({track}, EN 1990 A2.4.4.2.1): {} ({:.3} m/s², {} at {} km/h)",
-        if a.2 <= limit { "PASS" } else { "FAIL" },
-        a.2,
-        a.0,
-        crate::model::num(a.1)
+        pass(a.acceleration <= limit),
+        a.acceleration,
+        a.train,
+        num(a.speed_kmh)
     );
+    if vehicles {
+        let b = governing(|r| r.body.unwrap_or(0.0));
+        println!(
+            "check car-body vertical acceleration ≤ {comfort} m/s² ({} comfort, EN 1990 Table A2.9): {} ({:.3} m/s², {} at {} km/h)",
+            args.comfort,
+            pass(b.body.unwrap_or(0.0) <= comfort),
+            b.body.unwrap_or(0.0),
+            b.train,
+            num(b.speed_kmh)
+        );
+    }
     let f = &bridge.frequencies_hz;
-    let needed = 30.0_f64
-        .max(1.5 * f[0])
-        .max(f.get(2).copied().unwrap_or(0.0));
+    let needed = modes_considered(f).1;
     let kept = f.iter().copied().fold(0.0, f64::max);
     if kept < needed {
         println!(
             "note: the modes kept reach {kept:.1} Hz; EN 1990 A2.4.4.2.1 asks for max(30 Hz, 1.5 f₁, f₃) = {needed:.1} Hz (raise bridge.modes)"
         );
     }
-    if let Some(t) = tbi_dynamics::hslm::HSLM_A.iter().find(|t| t.name == a.0) {
+    if let Some(t) = tbi_dynamics::hslm::HSLM_A
+        .iter()
+        .find(|t| t.name == a.train)
+    {
         let v: Vec<String> = (1..=3)
             .map(|i| format!("{:.1}", f[0] * t.coach_length_m / i as f64 * 3.6))
             .collect();
@@ -230,6 +305,7 @@ pub fn main(
         &trains,
         &rows,
         (limit, track),
+        vehicles.then_some(comfort),
         (kept, needed),
     )?;
     crate::outdir::write_atomically(&args.out.join("report.html"), report.as_bytes())?;
@@ -242,6 +318,15 @@ pub fn main(
 }
 
 /// The sweep's `report.html` ([`crate::report`]).
+fn pass(ok: bool) -> &'static str {
+    if ok {
+        "PASS"
+    } else {
+        "FAIL"
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn report(
     args: &SweepArgs,
     base: &Scenario,
@@ -249,6 +334,7 @@ fn report(
     trains: &[String],
     rows: &[Row],
     (limit, track): (f64, &str),
+    comfort: Option<f64>,
     (kept, needed): (f64, f64),
 ) -> Result<String, Box<dyn std::error::Error>> {
     use crate::report::{chart, Marks, Report, Series};
@@ -260,8 +346,8 @@ fn report(
                 label: t.clone(),
                 points: rows
                     .iter()
-                    .filter(|r| &r.0 == t)
-                    .map(|r| (r.1, key(r)))
+                    .filter(|r| &r.train == t)
+                    .map(|r| (r.speed_kmh, key(r)))
                     .collect(),
             })
             .collect()
@@ -271,11 +357,11 @@ fn report(
             .max_by(|a, b| key(a).total_cmp(&key(b)))
             .expect("at least one case")
     };
-    let a = worst(|r| r.2);
+    let a = worst(|r| r.acceleration);
     let f1 = bridge.frequencies_hz[0];
     let d_coach = tbi_dynamics::hslm::HSLM_A
         .iter()
-        .find(|t| t.name == a.0)
+        .find(|t| t.name == a.train)
         .map(|t| t.coach_length_m);
     let resonances: Vec<f64> = d_coach
         .map(|d| (1..=3).map(|i| f1 * d / i as f64 * 3.6).collect())
@@ -283,14 +369,14 @@ fn report(
     let mut charts = vec![(
         format!(
             "Deck vertical acceleration against speed; red: the limit {limit} m/s² ({track}); grey: resonance speeds f₁ D / i of {} ({})",
-            a.0,
+            a.train,
             resonances.iter().map(|v| format!("{v:.1}")).collect::<Vec<_>>().join(", ")
         ),
         chart(
             "Deck vertical acceleration",
             "speed (km/h)",
             "acceleration (m/s²)",
-            &by(|r| r.2),
+            &by(|r| r.acceleration),
             &Marks {
                 limit: Some((limit, format!("limit {limit} m/s²"))),
                 verticals: resonances.clone(),
@@ -303,7 +389,7 @@ fn report(
             "Deck vertical displacement",
             "speed (km/h)",
             "displacement (m)",
-            &by(|r| r.3),
+            &by(|r| r.displacement),
             &Marks::default(),
         )?,
     ));
@@ -313,15 +399,33 @@ fn report(
             "Dynamic enhancement φ'dyn",
             "speed (km/h)",
             "φ'dyn (–)",
-            &by(|r| r.4),
+            &by(|r| r.phi),
             &Marks::default(),
         )?,
     ));
+    if let Some(comfort) = comfort {
+        charts.push((
+            format!(
+                "Car-body vertical acceleration against speed; red: {comfort} m/s² ({} comfort, EN 1990 Table A2.9)",
+                args.comfort
+            ),
+            chart(
+                "Car-body vertical acceleration",
+                "speed (km/h)",
+                "acceleration (m/s²)",
+                &by(|r| r.body.unwrap_or(0.0)),
+                &Marks {
+                    limit: Some((comfort, format!("{} {comfort} m/s²", args.comfort))),
+                    verticals: Vec::new(),
+                },
+            )?,
+        ));
+    }
     // the governing case's time history, at the probe with the largest acceleration
     let history = args
         .out
-        .join(&a.0)
-        .join(format!("v{}", num(a.1)))
+        .join(&a.train)
+        .join(format!("v{}", num(a.speed_kmh)))
         .join("history.csv");
     let h = crate::plots::History::read(&history)?;
     let t = h
@@ -345,15 +449,15 @@ fn report(
         charts.push((
             format!(
                 "Governing time history: deck vertical acceleration at probe {probe}, {} at {} km/h",
-                a.0,
-                num(a.1)
+                a.train,
+                num(a.speed_kmh)
             ),
             chart(
                 "Governing deck acceleration",
                 "time (s)",
                 "acceleration (m/s²)",
                 &[Series {
-                    label: format!("{} at {} km/h", a.0, num(a.1)),
+                    label: format!("{} at {} km/h", a.train, num(a.speed_kmh)),
                     points: t.iter().copied().zip(c).collect(),
                 }],
                 &Marks {
@@ -381,11 +485,26 @@ fn report(
             bridge.n_modes()
         ),
         format!(
-            "{} trains × {} speeds ({} to {} km/h), moving forces; probes: {}",
+            "{} trains × {} speeds ({} to {} km/h), {}; probes: {}",
             trains.len(),
             rows.len() / trains.len().max(1),
-            num(rows.iter().map(|r| r.1).fold(f64::INFINITY, f64::min)),
-            num(rows.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max)),
+            num(rows
+                .iter()
+                .map(|r| r.speed_kmh)
+                .fold(f64::INFINITY, f64::min)),
+            num(rows
+                .iter()
+                .map(|r| r.speed_kmh)
+                .fold(f64::NEG_INFINITY, f64::max)),
+            match &base.train.axle_vehicle {
+                None => "moving forces".to_string(),
+                Some(v) => format!(
+                    "a sprung mass under every axle ({} Hz, damping {} %, wheel {} kg)",
+                    num(v.frequency_hz),
+                    num(100.0 * v.damping_ratio),
+                    num(v.wheel_mass_kg)
+                ),
+            },
             base.probes
                 .iter()
                 .map(|p| format!("{} (x = {} m)", p.name, num(p.x_m)))
@@ -393,11 +512,16 @@ fn report(
                 .join(", ")
         ),
     ];
-    let checks = vec![
+    let mut checks = vec![
         (
             format!("deck acceleration ≤ {limit} m/s² ({track}, EN 1990 A2.4.4.2.1)"),
-            a.2 <= limit,
-            format!("largest {:.3} m/s², {} at {} km/h", a.2, a.0, num(a.1)),
+            a.acceleration <= limit,
+            format!(
+                "largest {:.3} m/s², {} at {} km/h",
+                a.acceleration,
+                a.train,
+                num(a.speed_kmh)
+            ),
         ),
         (
             "modes up to max(30 Hz, 1.5 f₁, f₃) (EN 1990 A2.4.4.2.1)".into(),
@@ -405,7 +529,23 @@ fn report(
             format!("kept up to {kept:.1} Hz, needed {needed:.1} Hz"),
         ),
     ];
-    let header = [
+    if let Some(comfort) = comfort {
+        let b = worst(|r| r.body.unwrap_or(0.0));
+        checks.push((
+            format!(
+                "car-body vertical acceleration ≤ {comfort} m/s² ({} comfort, EN 1990 Table A2.9)",
+                args.comfort
+            ),
+            b.body.unwrap_or(0.0) <= comfort,
+            format!(
+                "largest {:.3} m/s², {} at {} km/h",
+                b.body.unwrap_or(0.0),
+                b.train,
+                num(b.speed_kmh)
+            ),
+        ));
+    }
+    let mut header = [
         "train",
         "acceleration max (m/s²)",
         "at (km/h)",
@@ -416,20 +556,26 @@ fn report(
     ]
     .map(String::from)
     .to_vec();
+    if comfort.is_some() {
+        header.extend([
+            "car-body acceleration max (m/s²)".into(),
+            "at (km/h)".into(),
+        ]);
+    }
     let table_rows = trains
         .iter()
         .map(|t| {
-            let mine: Vec<&Row> = rows.iter().filter(|r| &r.0 == t).collect();
+            let mine: Vec<&Row> = rows.iter().filter(|r| &r.train == t).collect();
             let best = |key: fn(&Row) -> f64| {
                 mine.iter()
                     .max_by(|a, b| key(a).total_cmp(&key(b)))
-                    .map(|r| (key(r), r.1))
+                    .map(|r| (key(r), r.speed_kmh))
                     .unwrap_or((f64::NAN, f64::NAN))
             };
-            let (a, va) = best(|r| r.2);
-            let (d, vd) = best(|r| r.3);
-            let (p, vp) = best(|r| r.4);
-            vec![
+            let (a, va) = best(|r| r.acceleration);
+            let (d, vd) = best(|r| r.displacement);
+            let (p, vp) = best(|r| r.phi);
+            let mut row = vec![
                 t.clone(),
                 format!("{a:.4}"),
                 num(va),
@@ -437,7 +583,12 @@ fn report(
                 num(vd),
                 format!("{p:.3}"),
                 num(vp),
-            ]
+            ];
+            if comfort.is_some() {
+                let (b, vb) = best(|r| r.body.unwrap_or(0.0));
+                row.extend([format!("{b:.4}"), num(vb)]);
+            }
+            row
         })
         .collect();
     Ok(Report {

@@ -11,6 +11,8 @@
 //! output_every = 1             # write every n-th step to history.csv (default 1)
 //! [bridge]
 //! kind = "simply_supported"    # or "modal_file" (path = "modes.csv"), "suspension" (preset = "tsing-ma")
+//! # kind = "beam": spans_m = [20.0, 25.0], supports = "continuous" (or "simply_supported", a chain),
+//! #   sections = [{ inertia_vertical_m4 = 1.2 }, { inertia_vertical_m4 = 1.5 }] per span (keys default to the bridge's)
 //! span_m = 25.0
 //! youngs_modulus_pa = 2.87e9
 //! inertia_vertical_m4 = 2.9    # inertia_lateral_m4, shear_modulus_pa, torsion_constant_m4, polar_inertia_kg_m optional
@@ -20,9 +22,12 @@
 //! track_eccentricity_m = 0.0   # e, track offset from the shear centre (+y), m
 //! track_height_m = 0.0         # h4, wheelset reference above the shear centre, m
 //! [train]
-//! kind = "sprung_mass"         # or "moving_force", "coach_27dof", "hslm_a" (name = "A1")
+//! kind = "sprung_mass"         # or "moving_force", "coach_27dof", "hslm_a" (name = "A1"),
+//!                              # "hslm_b" (forces = N, spacing_m = d: N × 170 kN at d)
 //! axles = [{ offset_m = 0.0, sprung_mass_kg = 5750.0, stiffness_n_m = 1.595e6, damping_ns_m = 0.0 }]
 //! # coach_27dof: preset = "xia2000", vehicles = 8, coach = { k1v_n_m = ... } overrides
+//! # moving_force / hslm_a: vehicle = { model = "sprung_mass", frequency_hz = 1.0, damping_ratio = 0.1, wheel_mass_kg = 2000.0 }
+//! #   puts a sprung mass under every axle (m_s + m_w = P / g)
 //! # hunting = { amplitude_m = 0.003, wavelength_m = 15.0, seed = 1 }
 //! [track]
 //! irregularity = "none"        # or { spectrum = "german-low", seed = 1, lambda_min_m = 1.0, lambda_max_m = 80.0 } or { file = "track.csv" }
@@ -54,7 +59,7 @@ use tbi_dynamics::bridge::SimplySupported;
 use tbi_dynamics::interface::TrainSpec;
 use tbi_dynamics::train::Speed;
 use tbi_dynamics::vehicle::coach::CoachParams;
-use tbi_dynamics::vehicle::simple::{MovingForceAxle, SprungMassAxle};
+use tbi_dynamics::vehicle::simple::{AxleVehicle, MovingForceAxle, SprungMassAxle};
 use tbi_dynamics::InputError;
 use tbi_track::{HuntingParams, IrregularitySpec};
 
@@ -257,6 +262,16 @@ impl Bridge {
             | Bridge::Beam { modal, .. } => modal.modes,
         }
     }
+
+    /// Keep the lowest `n` modes (`tbi sweep --trains` keeps those EN 1990 A2.4.4.2.1 asks for).
+    pub fn set_modes(&mut self, n: usize) {
+        match self {
+            Bridge::SimplySupported(b) => b.modes = n,
+            Bridge::ModalFile { modal, .. }
+            | Bridge::Suspension { modal, .. }
+            | Bridge::Beam { modal, .. } => modal.modes = n,
+        }
+    }
 }
 
 /// `[train]`: the vehicles by kind, and wheel hunting.
@@ -265,6 +280,26 @@ pub struct Train {
     pub spec: TrainSpec,
     /// Wheel hunting; off by default.
     pub hunting: HuntingParams,
+    /// The vehicle under each axle of an axle-load train (`train.vehicle`), which `spec`
+    /// already applies; kept so that `tbi sweep --trains` puts it under other trains too.
+    /// Default none (moving forces).
+    pub axle_vehicle: Option<AxleVehicle>,
+}
+
+impl Train {
+    /// The train of these axle loads: moving forces, or sprung masses under
+    /// [`Train::axle_vehicle`].
+    pub fn axle_train(&self, axles: Vec<MovingForceAxle>) -> Result<TrainSpec, String> {
+        match &self.axle_vehicle {
+            None => Ok(TrainSpec::MovingForce(axles)),
+            Some(v) => Ok(TrainSpec::SprungMass(
+                axles
+                    .iter()
+                    .map(|a| v.sprung(a))
+                    .collect::<Result<_, _>>()?,
+            )),
+        }
+    }
 }
 
 impl Train {
@@ -436,6 +471,8 @@ struct FileBridge {
     span_m: Option<f64>,
     // beam
     spans_m: Option<Vec<f64>>,
+    /// `kind = "beam"`: one section per span, each key defaulting to the bridge's.
+    sections: Option<Vec<FileSection>>,
     /// `kind = "beam"`: `"continuous"` (default) or `"simply_supported"` (a chain of spans).
     supports: Option<String>,
     youngs_modulus_pa: Option<f64>,
@@ -457,6 +494,15 @@ fn default_modes() -> usize {
     20
 }
 
+/// `bridge.sections[i]` of `kind = "beam"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileSection {
+    youngs_modulus_pa: Option<f64>,
+    inertia_vertical_m4: Option<f64>,
+    mass_per_length_kg_m: Option<f64>,
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct FileDamping {
@@ -471,6 +517,10 @@ struct FileTrain {
     kind: String,
     /// `kind = "hslm_a"`: the train's name, `A1` … `A10`.
     name: Option<String>,
+    /// `kind = "hslm_b"`: the number N of point forces of 170 kN.
+    forces: Option<usize>,
+    /// `kind = "hslm_b"`: their uniform spacing d, m.
+    spacing_m: Option<f64>,
     /// `kind = "moving_force"`: a CSV of axles instead of `axles`.
     file: Option<PathBuf>,
     #[serde(default)]
@@ -479,6 +529,8 @@ struct FileTrain {
     vehicles: Option<usize>,
     coach: Option<toml::Table>,
     hunting: Option<HuntingParams>,
+    /// `kind = "moving_force"` or `"hslm_a"`: a sprung mass under every axle.
+    vehicle: Option<toml::Table>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -733,6 +785,7 @@ impl Check<'_> {
         if b.kind != "beam" {
             refuse(&[
                 ("spans_m", b.spans_m.is_some()),
+                ("sections", b.sections.is_some()),
                 ("supports", b.supports.is_some()),
             ])?;
         }
@@ -804,22 +857,64 @@ impl Check<'_> {
                     self.within(&format!("bridge.spans_m[{i}]"), l, (0.1, 1e4), "(m)")?;
                 }
                 self.at_most("bridge.spans_m (count)", spans.len(), 100)?;
-                let need = |name: &str, v: Option<f64>| match v {
-                    None => Err(self.err(
-                        &format!("bridge.{name}"),
-                        "(missing)",
-                        "is required for kind \"beam\"",
-                    )),
-                    Some(v) => self.positive(&format!("bridge.{name}"), v),
-                };
-                let youngs_modulus_pa = need("youngs_modulus_pa", b.youngs_modulus_pa)?;
-                let inertia_m4 = need("inertia_vertical_m4", b.inertia_vertical_m4)?;
-                let mass = need("mass_per_length_kg_m", b.mass_per_length_kg_m)?;
                 for (name, lo, hi) in limits::SECTION {
                     if let Some((_, Some(v))) = section.iter().find(|f| f.0 == name) {
+                        self.positive(&format!("bridge.{name}"), *v)?;
                         self.within(&format!("bridge.{name}"), *v, (lo, hi), "(SI units)")?;
                     }
                 }
+                let given = b.sections.clone().unwrap_or_default();
+                if b.sections.is_some() && given.len() != spans.len() {
+                    return Err(self.err(
+                        "bridge.sections",
+                        format!("({} sections)", given.len()),
+                        &format!("give one section per span ({} spans)", spans.len()),
+                    ));
+                }
+                let sections = (0..spans.len())
+                    .map(|i| {
+                        let own = given.get(i);
+                        let pick = |name: &str, mine: Option<f64>, bridge: Option<f64>| {
+                            match (mine, bridge) {
+                                (Some(v), _) => {
+                                    let field = format!("bridge.sections[{i}].{name}");
+                                    self.positive(&field, v)?;
+                                    if let Some((_, lo, hi)) =
+                                        limits::SECTION.iter().find(|f| f.0 == name)
+                                    {
+                                        self.within(&field, v, (*lo, *hi), "(SI units)")?;
+                                    }
+                                    Ok(v)
+                                }
+                                (None, Some(v)) => Ok(v),
+                                (None, None) => Err(self.err(
+                                    &format!("bridge.{name}"),
+                                    "(missing)",
+                                    &format!(
+                                        "is required for kind \"beam\" (or in every bridge.sections[…]; span {i} has none)"
+                                    ),
+                                )),
+                            }
+                        };
+                        Ok(tbi_fe::beam::SpanSection {
+                            youngs_modulus_pa: pick(
+                                "youngs_modulus_pa",
+                                own.and_then(|s| s.youngs_modulus_pa),
+                                b.youngs_modulus_pa,
+                            )?,
+                            inertia_m4: pick(
+                                "inertia_vertical_m4",
+                                own.and_then(|s| s.inertia_vertical_m4),
+                                b.inertia_vertical_m4,
+                            )?,
+                            mass_per_length_kg_m: pick(
+                                "mass_per_length_kg_m",
+                                own.and_then(|s| s.mass_per_length_kg_m),
+                                b.mass_per_length_kg_m,
+                            )?,
+                        })
+                    })
+                    .collect::<Result<Vec<_>, InputError>>()?;
                 refuse(&[
                     ("span_m", b.span_m.is_some()),
                     ("inertia_lateral_m4", b.inertia_lateral_m4.is_some()),
@@ -845,9 +940,7 @@ impl Check<'_> {
                 Ok(Bridge::Beam {
                     beam: tbi_fe::beam::ContinuousBeam {
                         spans_m: spans,
-                        youngs_modulus_pa,
-                        inertia_m4,
-                        mass_per_length_kg_m: mass,
+                        sections,
                         elements_per_span: 40,
                         continuous,
                     },
@@ -939,7 +1032,57 @@ impl Check<'_> {
         hunting
             .validate()
             .map_err(|e| self.err("train.hunting", format!("{hunting:?}"), &e.to_string()))?;
-        Ok(Train { spec, hunting })
+        let axle_vehicle = t
+            .vehicle
+            .as_ref()
+            .map(|table| self.axle_vehicle(t, table))
+            .transpose()?;
+        let mut train = Train {
+            spec,
+            hunting,
+            axle_vehicle,
+        };
+        if train.axle_vehicle.is_some() {
+            let TrainSpec::MovingForce(axles) = &train.spec else {
+                unreachable!("axle_vehicle refuses other kinds")
+            };
+            train.spec = train.axle_train(axles.clone()).map_err(|e| {
+                self.err(
+                    "train.vehicle.wheel_mass_kg",
+                    inline_table(t.vehicle.as_ref().expect("set")),
+                    &e,
+                )
+            })?;
+        }
+        Ok(train)
+    }
+
+    /// `train.vehicle`: the sprung mass under every axle of a `moving_force` or `hslm_a` train.
+    fn axle_vehicle(&self, t: &FileTrain, table: &toml::Table) -> Result<AxleVehicle, InputError> {
+        if !matches!(t.kind.as_str(), "moving_force" | "hslm_a" | "hslm_b") {
+            return Err(self.err(
+                "train.vehicle",
+                inline_table(table),
+                &format!(
+                    "does not apply to kind \"{}\" (only \"moving_force\", \"hslm_a\" and \"hslm_b\")",
+                    t.kind
+                ),
+            ));
+        }
+        let v: AxleVehicle = table.clone().try_into().map_err(|e: toml::de::Error| {
+            self.err("train.vehicle", inline_table(table), e.message())
+        })?;
+        if v.model != "sprung_mass" {
+            return Err(self.err(
+                "train.vehicle.model",
+                format!("\"{}\"", v.model),
+                "unknown model; expected \"sprung_mass\"",
+            ));
+        }
+        self.positive("train.vehicle.frequency_hz", v.frequency_hz)?;
+        self.non_negative("train.vehicle.damping_ratio", v.damping_ratio)?;
+        self.non_negative("train.vehicle.wheel_mass_kg", v.wheel_mass_kg)?;
+        Ok(v)
     }
 
     /// `train.file`: a CSV of axles, header `offset_m,load_n` (distance behind the first
@@ -1013,6 +1156,8 @@ impl Check<'_> {
             ("vehicles", t.vehicles.is_some()),
             ("coach", t.coach.is_some()),
             ("name", t.name.is_some()),
+            ("forces", t.forces.is_some()),
+            ("spacing_m", t.spacing_m.is_some()),
         ] {
             if set {
                 return Err(self.err(
@@ -1070,12 +1215,18 @@ impl Check<'_> {
                 },
             )?)),
             "coach_27dof" => {
-                if t.name.is_some() {
-                    return Err(self.err(
-                        "train.name",
-                        "(set)",
-                        "does not apply to kind \"coach_27dof\"",
-                    ));
+                for (name, set) in [
+                    ("name", t.name.is_some()),
+                    ("forces", t.forces.is_some()),
+                    ("spacing_m", t.spacing_m.is_some()),
+                ] {
+                    if set {
+                        return Err(self.err(
+                            &format!("train.{name}"),
+                            "(set)",
+                            "does not apply to kind \"coach_27dof\"",
+                        ));
+                    }
                 }
                 if !t.axles.is_empty() {
                     return Err(self.err(
@@ -1121,6 +1272,8 @@ impl Check<'_> {
                     ("preset", t.preset.is_some()),
                     ("vehicles", t.vehicles.is_some()),
                     ("coach", t.coach.is_some()),
+                    ("forces", t.forces.is_some()),
+                    ("spacing_m", t.spacing_m.is_some()),
                 ] {
                     if set {
                         return Err(self.err(
@@ -1138,10 +1291,42 @@ impl Check<'_> {
                         .map_err(|e| self.err("train.name", format!("\"{name}\""), &e))?,
                 ))
             }
+            "hslm_b" => {
+                for (name, set) in [
+                    ("axles", !t.axles.is_empty()),
+                    ("preset", t.preset.is_some()),
+                    ("vehicles", t.vehicles.is_some()),
+                    ("coach", t.coach.is_some()),
+                    ("name", t.name.is_some()),
+                ] {
+                    if set {
+                        return Err(self.err(
+                            &format!("train.{name}"),
+                            "(set)",
+                            "does not apply to kind \"hslm_b\" (give forces = N, spacing_m = d)",
+                        ));
+                    }
+                }
+                let forces = t.forces.ok_or_else(|| {
+                    self.err("train.forces", "(missing)", "kind \"hslm_b\" needs forces = N (EN 1991-2 §6.4.6.1.1, read for the span)")
+                })?;
+                let spacing = t.spacing_m.ok_or_else(|| {
+                    self.err("train.spacing_m", "(missing)", "kind \"hslm_b\" needs spacing_m = d (EN 1991-2 §6.4.6.1.1, read for the span)")
+                })?;
+                if forces == 0 {
+                    return Err(self.err("train.forces", 0, "must be at least 1"));
+                }
+                self.at_most("train.forces", forces, limits::AXLES)?;
+                self.positive("train.spacing_m", spacing)?;
+                Ok(TrainSpec::MovingForce(
+                    tbi_dynamics::hslm::hslm_b(forces, spacing)
+                        .map_err(|e| self.err("train.forces", forces, &e))?,
+                ))
+            }
             other => Err(self.err(
                 "train.kind",
                 format!("\"{other}\""),
-                "unknown kind; expected \"moving_force\", \"sprung_mass\", \"coach_27dof\" or \"hslm_a\"",
+                "unknown kind; expected \"moving_force\", \"sprung_mass\", \"coach_27dof\", \"hslm_a\" or \"hslm_b\"",
             )),
         }
     }

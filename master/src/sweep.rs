@@ -32,6 +32,15 @@ pub struct SweepArgs {
     /// or `direct` (fastening, 5 m/s²).
     #[arg(long, default_value = "ballasted")]
     pub track: String,
+    /// With `--trains`: the comfort level of EN 1990 Table A2.9 the car-body vertical
+    /// acceleration is checked against when the trains carry vehicles (`train.vehicle`):
+    /// `very-good` (1.0 m/s²), `good` (1.3 m/s²) or `acceptable` (2.0 m/s²).
+    #[arg(long, default_value = "very-good")]
+    pub comfort: String,
+    /// With `--trains`: keep every mode of the bridge, not only those up to
+    /// max(30 Hz, 1.5 f₁, f₃) that EN 1990 A2.4.4.2.1 considers.
+    #[arg(long)]
+    pub all_modes: bool,
     /// Solver (default: the scenario's).
     #[arg(long)]
     pub solver: Option<String>,

@@ -46,22 +46,24 @@ fn scenario(dir: &Path, text: &str) -> PathBuf {
     p
 }
 
-/// (train, speed km/h, acceleration m/s², displacement m, static displacement m, φ'dyn)
-/// rows of envelope.csv.
-type Row = (String, f64, f64, f64, f64, f64);
+/// (train, speed km/h, acceleration m/s², displacement m, static displacement m, φ'dyn,
+/// car-body acceleration m/s² with vehicles) rows of envelope.csv.
+type Row = (String, f64, f64, f64, f64, f64, Option<f64>);
 
 fn envelope(path: &Path) -> Vec<Row> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m,deck_static_displacement_max_m,phi_dyn"
+        "train,speed_kmh,deck_acceleration_max_m_s2,deck_displacement_max_m,deck_static_displacement_max_m,phi_dyn,car_body_acceleration_max_m_s2"
     );
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), 7, "{l}");
             let n = |i: usize| f[i].parse::<f64>().unwrap();
-            (f[0].to_owned(), n(1), n(2), n(3), n(4), n(5))
+            let body = (!f[6].is_empty()).then(|| n(6));
+            (f[0].to_owned(), n(1), n(2), n(3), n(4), n(5), body)
         })
         .collect()
 }
@@ -648,4 +650,318 @@ fn the_default_speed_range_of_a_trains_sweep() {
     assert_eq!(speeds.len(), 87, "{speeds:?}");
     assert_eq!(speeds[0], 144.0);
     assert_eq!(*speeds.last().unwrap(), 359.0);
+}
+
+/// `run` a scenario expected to be refused; its stderr.
+fn refused(dir: &Path, text: &str) -> String {
+    let s = scenario(dir, text);
+    let r = run(tbi_command()
+        .arg("run")
+        .arg(&s)
+        .args(["--quiet", "--out"])
+        .arg(dir.join("out")));
+    let err = tbi_tests::text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(!dir.join("out/summary.json").exists());
+    err
+}
+
+const VEHICLE: &str =
+    "vehicle = { model = \"sprung_mass\", frequency_hz = 1.0, damping_ratio = 0.1, wheel_mass_kg = 2000.0 }";
+
+/// HSLM-A1 with a sprung mass under every axle (`train.vehicle`), the sweep's comfort check.
+/// At a crawl (5 km/h) the deck displacement equals the static displacement of the 170 kN
+/// axles (the envelope's, equal to the closed-form influence line in
+/// `static_displacement_and_dynamic_enhancement`) to 0.1 %: the sprung masses carry each
+/// axle's load (m_s + m_w = P / g). The envelope's car-body column equals the
+/// `tbi run` of the same case, the check is printed against EN 1990 Table A2.9 and appears in
+/// the report.
+#[test]
+fn hslm_a_as_sprung_masses_and_the_comfort_check() {
+    let dir = scratch("sweep-hslm-vehicle");
+    let with = SPAN
+        .replace("name = \"A1\"", &format!("name = \"A1\"\n{VEHICLE}"))
+        .replace("dt_s = 0.001", "dt_s = 0.002");
+    let s = scenario(&dir, &with);
+    let out = run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args([
+                "--speeds",
+                "5,325",
+                "--trains",
+                "A1",
+                "--comfort",
+                "good",
+                "--out",
+            ])
+            .arg(dir.join("sweep")),
+    );
+    let stdout = text(&out.stdout);
+    let rows = envelope(&dir.join("sweep/envelope.csv"));
+    let crawl = &rows[0];
+    assert_eq!(crawl.1, 5.0);
+    assert!(
+        (crawl.3 / crawl.4 - 1.0).abs() < 1e-3,
+        "sprung masses {} m vs static {} m",
+        crawl.3,
+        crawl.4
+    );
+    // moving forces have no car-body column
+    let forces = scenario(&dir.join("forces"), SPAN);
+    run_ok(
+        tbi_command()
+            .arg("sweep")
+            .arg(&forces)
+            .args(["--speeds", "325", "--trains", "A1", "--out"])
+            .arg(dir.join("forces/sweep")),
+    );
+    let plain = envelope(&dir.join("forces/sweep/envelope.csv"));
+    assert!(plain.iter().all(|r| r.6.is_none()), "{plain:?}");
+    let body = rows[1].6.expect("a car-body column with vehicles");
+    assert!(body > 0.0, "{rows:?}");
+    // the same case as one run
+    let case = with.replace("speed_kmh = 300.0", "speed_kmh = 325.0");
+    run_peak(&dir.join("one"), &case, &[]);
+    let summary = read_summary(&dir.join("one/out"));
+    assert_eq!(summary["train"]["wheelsets"].as_u64(), Some(50));
+    let run_body = summary["vehicles"]["vertical_acceleration_max_m_s2"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        (run_body / body - 1.0).abs() < 1e-9,
+        "run {run_body} vs envelope {body}"
+    );
+    assert!(
+        stdout.contains(
+            "check car-body vertical acceleration ≤ 1.3 m/s² (good comfort, EN 1990 Table A2.9)"
+        ),
+        "{stdout}"
+    );
+    let html = std::fs::read_to_string(dir.join("sweep/report.html")).unwrap();
+    assert!(html.contains("Car-body vertical acceleration"), "report");
+    assert!(html.contains("a sprung mass under every axle"), "report");
+    // refusals, by field and value
+    let bad = |name: &str, from: &str, to: &str, needles: &[&str]| {
+        let err = refused(&dir.join(name), &with.replace(from, to));
+        for n in needles {
+            assert!(err.contains(n), "{name}: expected {n:?} in {err}");
+        }
+    };
+    bad(
+        "model",
+        "model = \"sprung_mass\"",
+        "model = \"bogie\"",
+        &["train.vehicle.model", "\"bogie\""],
+    );
+    bad(
+        "frequency",
+        "frequency_hz = 1.0",
+        "frequency_hz = 0.0",
+        &["train.vehicle.frequency_hz", "0"],
+    );
+    bad(
+        "wheel",
+        "wheel_mass_kg = 2000.0",
+        "wheel_mass_kg = 20000.0",
+        &["train.vehicle", "leaves no sprung mass", "170000"],
+    );
+    bad(
+        "unknown",
+        "damping_ratio = 0.1",
+        "damping = 0.1",
+        &["train.vehicle", "damping"],
+    );
+    let coach = refused(
+        &dir.join("coach"),
+        &SPAN.replace(
+            "kind = \"hslm_a\"\nname = \"A1\"",
+            &format!("kind = \"coach_27dof\"\n{VEHICLE}"),
+        ),
+    );
+    assert!(
+        coach.contains("train.vehicle") && coach.contains("does not apply to kind \"coach_27dof\""),
+        "{coach}"
+    );
+    let err = text(
+        &run(tbi_command()
+            .arg("sweep")
+            .arg(&s)
+            .args([
+                "--speeds",
+                "300",
+                "--trains",
+                "A1",
+                "--comfort",
+                "fair",
+                "--out",
+            ])
+            .arg(dir.join("fair")))
+        .stderr,
+    );
+    assert!(err.contains("--comfort fair"), "{err}");
+}
+
+/// HSLM-B on a 5 m span: N = 10 forces of 170 kN at d = 3.5 m equal the same forces typed in
+/// as `moving_force` axles; missing or bad N and d are refused by name.
+#[test]
+fn hslm_b_equals_its_forces_typed_in() {
+    let dir = scratch("hslm-b");
+    let short = SPAN
+        .replace("span_m = 25.0", "span_m = 5.0")
+        .replace("x_m = 12.5", "x_m = 2.5")
+        .replace("dt_s = 0.001", "dt_s = 0.0005");
+    let b = short.replace(
+        "kind = \"hslm_a\"\nname = \"A1\"",
+        "kind = \"hslm_b\"\nforces = 10\nspacing_m = 3.5",
+    );
+    let axles: Vec<String> = (0..10)
+        .map(|i| format!("{{ offset_m = {}, load_n = 170000.0 }}", 3.5 * i as f64))
+        .collect();
+    let typed = short.replace(
+        "kind = \"hslm_a\"\nname = \"A1\"",
+        &format!("kind = \"moving_force\"\naxles = [{}]", axles.join(", ")),
+    );
+    let a = run_peak(&dir.join("b"), &b, &[]);
+    let t = run_peak(&dir.join("typed"), &typed, &[]);
+    assert!(
+        a > 0.0 && (a / t - 1.0).abs() < 1e-12,
+        "HSLM-B {a} vs typed {t}"
+    );
+    assert_eq!(
+        read_summary(&dir.join("b/out"))["train"]["wheelsets"].as_u64(),
+        Some(10)
+    );
+    for (name, from, to, needles) in [
+        (
+            "missing",
+            "forces = 10\n",
+            "",
+            &["train.forces", "(missing)"][..],
+        ),
+        (
+            "zero",
+            "forces = 10",
+            "forces = 0",
+            &["train.forces", "at least 1"],
+        ),
+        (
+            "spacing",
+            "spacing_m = 3.5",
+            "spacing_m = -3.5",
+            &["train.spacing_m", "-3.5"],
+        ),
+        (
+            "name",
+            "forces = 10",
+            "forces = 10\nname = \"A1\"",
+            &["train.name", "does not apply to kind \"hslm_b\""],
+        ),
+    ] {
+        let err = refused(&dir.join(name), &b.replace(from, to));
+        for n in needles {
+            assert!(err.contains(n), "{name}: expected {n:?} in {err}");
+        }
+    }
+}
+
+/// EN 1990 A2.4.4.2.1 considers the modes up to max(30 Hz, 1.5 f₁, f₃): of the 25 m span's
+/// six modes (5, 20, 45, 80 … Hz) the sweep keeps three, equal to a sweep of the span given
+/// three modes; `--all-modes` keeps all six.
+#[test]
+fn a_trains_sweep_keeps_the_modes_en1990_considers() {
+    let dir = scratch("sweep-modes");
+    let six = scenario(&dir.join("six"), &SPAN.replace("modes = 3", "modes = 6"));
+    let three = scenario(&dir.join("three"), SPAN);
+    let sweep = |s: &Path, out: &str, extra: &[&str]| {
+        let o = run_ok(
+            tbi_command()
+                .arg("sweep")
+                .arg(s)
+                .args(["--speeds", "250,325", "--trains", "A1"])
+                .args(extra)
+                .arg("--out")
+                .arg(dir.join(out)),
+        );
+        (
+            text(&o.stdout),
+            envelope(&dir.join(out).join("envelope.csv")),
+        )
+    };
+    let (said, kept) = sweep(&six, "kept", &[]);
+    assert!(
+        said.contains("modes: the lowest 3 of 6, up to max(30 Hz, 1.5 f₁, f₃) = 45."),
+        "{said}"
+    );
+    let (_, given) = sweep(&three, "given", &[]);
+    assert_eq!(kept, given);
+    let (said, all) = sweep(&six, "all", &["--all-modes"]);
+    assert!(!said.contains("modes: the lowest"), "{said}");
+    assert_ne!(all, given);
+    let summary = read_summary(&dir.join("all/A1/v325"));
+    assert_eq!(summary["bridge"]["modes"].as_u64(), Some(6));
+}
+
+/// `bridge.sections`: a chain of a 20 m and a 15 m span with sections of their own has the
+/// union of the two simply supported spans' closed forms fₙ = (nπ/L)² √(EI/m) / 2π as its
+/// frequencies, to 0.1 %; a section list of the wrong length or with an unknown key is
+/// refused by name.
+#[test]
+fn a_chain_of_spans_with_sections_of_their_own() {
+    let dir = scratch("beam-sections");
+    let chain = SPAN
+        .replace(
+            "kind = \"simply_supported\"\nspan_m = 25.0",
+            "kind = \"beam\"\nspans_m = [20.0, 15.0]\nsupports = \"simply_supported\"\n\
+             sections = [{ inertia_vertical_m4 = 1.2 }, { youngs_modulus_pa = 3.0e10, inertia_vertical_m4 = 0.5, mass_per_length_kg_m = 9000.0 }]",
+        )
+        .replace("modes = 3", "modes = 4");
+    run_peak(&dir.join("ok"), &chain, &[]);
+    let f: Vec<f64> = read_summary(&dir.join("ok/out"))["bridge"]["frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let closed = |n: f64, l: f64, ei: f64, m: f64| {
+        (n * std::f64::consts::PI / l).powi(2) * (ei / m).sqrt() / (2.0 * std::f64::consts::PI)
+    };
+    let mut expected: Vec<f64> = (1..=3)
+        .flat_map(|n| {
+            [
+                closed(n as f64, 20.0, 3.5e10 * 1.2, 15000.0),
+                closed(n as f64, 15.0, 3.0e10 * 0.5, 9000.0),
+            ]
+        })
+        .collect();
+    expected.sort_by(f64::total_cmp);
+    assert_eq!(f.len(), 4);
+    for (g, e) in f.iter().zip(&expected) {
+        assert!((g / e - 1.0).abs() < 1e-3, "{f:?} vs {expected:?}");
+    }
+    let err = refused(
+        &dir.join("count"),
+        &chain.replace("[20.0, 15.0]", "[20.0, 15.0, 10.0]"),
+    );
+    assert!(
+        err.contains("bridge.sections") && err.contains("3 spans"),
+        "{err}"
+    );
+    let err = refused(
+        &dir.join("key"),
+        &chain.replace("{ inertia_vertical_m4 = 1.2 }", "{ inertia_m4 = 1.2 }"),
+    );
+    assert!(err.contains("inertia_m4"), "{err}");
+    let err = refused(
+        &dir.join("value"),
+        &chain.replace(
+            "{ inertia_vertical_m4 = 1.2 }",
+            "{ inertia_vertical_m4 = -1.2 }",
+        ),
+    );
+    assert!(
+        err.contains("bridge.sections[0].inertia_vertical_m4") && err.contains("-1.2"),
+        "{err}"
+    );
 }

@@ -41,6 +41,48 @@ pub struct SprungMassAxle {
     pub wheel_mass_kg: f64,
 }
 
+/// The vehicle under each axle of an axle-load train (HSLM, an axles file) when the user
+/// supplies one: a sprung mass whose total mass carries the axle's load,
+/// `m_s + m_w = P / g`, with the suspension tuned to a bounce frequency and a damping ratio:
+/// `k = m_s (2π f)²`, `c = 2 ζ m_s (2π f)`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxleVehicle {
+    /// `"sprung_mass"`, the only model for axle-load trains (their axles are not grouped into
+    /// bogies and car bodies).
+    pub model: String,
+    /// Bounce frequency of the sprung mass on its suspension, sqrt(k / m_s) / 2π, Hz.
+    pub frequency_hz: f64,
+    /// Damping ratio of the suspension, c / (2 m_s 2π f), –. Default 0.
+    #[serde(default)]
+    pub damping_ratio: f64,
+    /// Unsprung (wheel) mass per axle, kg, less than P / g. Default 0.
+    #[serde(default)]
+    pub wheel_mass_kg: f64,
+}
+
+impl AxleVehicle {
+    /// The sprung-mass axle carrying `axle`'s load.
+    pub fn sprung(&self, axle: &MovingForceAxle) -> Result<SprungMassAxle, String> {
+        let total = axle.load_n / super::GRAVITY;
+        let sprung_mass_kg = total - self.wheel_mass_kg;
+        if sprung_mass_kg.is_nan() || sprung_mass_kg <= 0.0 {
+            return Err(format!(
+                "wheel_mass_kg = {} leaves no sprung mass under an axle load of {} N (P / g = {total} kg)",
+                self.wheel_mass_kg, axle.load_n
+            ));
+        }
+        let omega = 2.0 * std::f64::consts::PI * self.frequency_hz;
+        Ok(SprungMassAxle {
+            offset_m: axle.offset_m,
+            sprung_mass_kg,
+            stiffness_n_m: sprung_mass_kg * omega * omega,
+            damping_ns_m: 2.0 * self.damping_ratio * sprung_mass_kg * omega,
+            wheel_mass_kg: self.wheel_mass_kg,
+        })
+    }
+}
+
 /// A moving constant force as a vehicle with no DOFs.
 pub fn moving_force(load_n: f64) -> LinearVehicle {
     LinearVehicle {
