@@ -52,8 +52,24 @@ pub struct Exported {
 
 pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
     let scenario = crate::scenario::load(args.scenario.as_deref(), None, None)?;
-    let model = crate::model::build(&scenario)?;
-    let e = export(&model, &scenario.coupling, &args.out)?;
+    let e = export_scenario(&scenario, &args.out)?;
+    println!(
+        "{}\n{}\n{}",
+        e.bridge.display(),
+        e.train.display(),
+        e.ssp.display()
+    );
+    Ok(())
+}
+
+/// `tbi export`: the scenario's FMUs and SSP into `out`, each FMU instantiated once as an
+/// importer would; when one does not instantiate nothing is left exported.
+pub fn export_scenario(
+    scenario: &crate::scenario::Scenario,
+    out: &Path,
+) -> Result<Exported, Box<dyn std::error::Error>> {
+    let model = crate::model::build(scenario)?;
+    let e = export(&model, &scenario.coupling, out)?;
     for fmu in [&e.bridge, &e.train] {
         if let Err(why) = check_instantiates(fmu) {
             for f in [&e.bridge, &e.train, &e.ssp] {
@@ -66,13 +82,7 @@ pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
             .into());
         }
     }
-    println!(
-        "{}\n{}\n{}",
-        e.bridge.display(),
-        e.train.display(),
-        e.ssp.display()
-    );
-    Ok(())
+    Ok(e)
 }
 
 /// Load an exported FMU and instantiate it once, as an importer would.
@@ -89,12 +99,23 @@ pub fn check_instantiates(fmu: &Path) -> Result<(), String> {
         .map_err(|e| e.to_string())
 }
 
-/// Directory holding `libbridge.so` and `libtrain.so`.
+/// Folders searched for `libbridge.so` and `libtrain.so` before the others (the Python
+/// package's own copy, and the checkout it was built from).
+static LIBRARY_DIRS: std::sync::OnceLock<Vec<PathBuf>> = std::sync::OnceLock::new();
+
+/// Search these folders first for the FMU libraries (set once, by an embedding program).
+pub fn set_library_dirs(dirs: Vec<PathBuf>) {
+    let _ = LIBRARY_DIRS.set(dirs);
+}
+
+/// Directory holding `libbridge.so` and `libtrain.so`: `TBI_FMU_LIB_DIR`, the folders of
+/// [`set_library_dirs`], then the executable's folder and its parent.
 pub fn library_dir() -> Result<PathBuf, String> {
     let mut candidates = Vec::new();
     if let Ok(d) = std::env::var("TBI_FMU_LIB_DIR") {
         candidates.push(PathBuf::from(d));
     }
+    candidates.extend(LIBRARY_DIRS.get().into_iter().flatten().cloned());
     if let Ok(exe) = std::env::current_exe() {
         if let Some(dir) = exe.parent() {
             candidates.push(dir.to_path_buf());

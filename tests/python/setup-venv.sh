@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Create (once) the Python virtual environment with the pinned FMPy that the comparison
-# tests run as the reference importer, and the pinned libcosimpy (libcosim) the
-# interoperability test runs the exported SSP in.
+# tests run as the reference importer, the pinned libcosimpy (libcosim) the
+# interoperability test runs the exported SSP in, and what the Python package's tests use
+# (pandas, dask.distributed, pytest, and maturin, which builds the package from python/).
 #
 #   tests/python/setup-venv.sh          # venv at "${TBI_VENV:-<repo>/target/venv}"
 #
@@ -12,6 +13,9 @@ set -euo pipefail
 
 FMPY_VERSION="0.3.32"
 LIBCOSIMPY_VERSION="0.0.6"
+# The Python package's tests (tests/python/package) and its build.
+PINS=("fmpy==$FMPY_VERSION" "libcosimpy==$LIBCOSIMPY_VERSION" "pandas==3.1.1"
+    "dask==2026.8.0" "distributed==2026.8.0" "pytest==9.2.0" "maturin==1.16.0")
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 VENV="${TBI_VENV:-$REPO/target/venv}"
@@ -21,8 +25,13 @@ have_fmpy() {
     [ -x "$VENV/bin/python" ] && [ -x "$VENV/bin/fmpy" ] &&
         "$VENV/bin/python" -c "import sys, fmpy; sys.exit(0 if fmpy.__version__ == '$FMPY_VERSION' else 1)" \
             >/dev/null 2>&1 &&
-        "$VENV/bin/python" -c "import sys, importlib.metadata as m; sys.exit(0 if m.version('libcosimpy') == '$LIBCOSIMPY_VERSION' else 1)" \
-            >/dev/null 2>&1
+        "$VENV/bin/python" - "${PINS[@]}" >/dev/null 2>&1 <<'PY'
+import sys, importlib.metadata as m
+for pin in sys.argv[1:]:
+    name, version = pin.split("==")
+    if m.version(name) != version:
+        sys.exit(1)
+PY
 }
 
 if have_fmpy; then
@@ -54,15 +63,14 @@ if [ ! -x "$VENV/bin/python" ]; then
     }
 fi
 
-echo "setup-venv.sh: installing fmpy==$FMPY_VERSION and libcosimpy==$LIBCOSIMPY_VERSION into $VENV" >&2
-"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
-    "fmpy==$FMPY_VERSION" "libcosimpy==$LIBCOSIMPY_VERSION" >&2 || {
-    echo "setup-venv.sh: pip could not install fmpy==$FMPY_VERSION and libcosimpy==$LIBCOSIMPY_VERSION into $VENV (libcosimpy needs Python >= 3.11 on x86_64 Linux)" >&2
+echo "setup-venv.sh: installing ${PINS[*]} into $VENV" >&2
+"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check "${PINS[@]}" >&2 || {
+    echo "setup-venv.sh: pip could not install ${PINS[*]} into $VENV (libcosimpy needs Python >= 3.11 on x86_64 Linux)" >&2
     exit 1
 }
 
 if ! have_fmpy; then
-    echo "setup-venv.sh: fmpy==$FMPY_VERSION or libcosimpy==$LIBCOSIMPY_VERSION is not importable from $VENV after installation" >&2
+    echo "setup-venv.sh: one of ${PINS[*]} is not importable from $VENV after installation" >&2
     exit 1
 fi
 echo "$VENV"

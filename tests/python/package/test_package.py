@@ -1,0 +1,210 @@
+"""The Python package tbi (python/): the same results as the command line, sweeps on the local
+cores and on a Dask cluster (also when a worker process dies), errors by name.
+
+Run by tests/run.sh after tests/python/install-package.sh built the package into the venv:
+    target/venv/bin/python -m pytest tests/python/package
+"""
+
+import json
+import os
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import tbi
+
+REPO = Path(__file__).resolve().parents[3]
+CLI = REPO / "target" / "release" / "tbi"
+DATA = REPO / "master" / "tests" / "data"
+SCENARIOS = sorted(DATA.glob("*.toml"))
+
+
+def cli(*args):
+    return subprocess.run([str(CLI), *map(str, args)], capture_output=True, text=True)
+
+
+def comparable(summary):
+    """A summary without what differs between two runs of the same case: the wall time and
+    the folders of the run."""
+    s = json.loads(json.dumps(summary))
+    s.pop("wall_time_s", None)
+    for key in ("bridge_fmu", "train_fmu"):
+        (s.get("coupling") or {}).pop(key, None)
+    return s
+
+
+def test_there_are_test_scenarios():
+    assert len(SCENARIOS) >= 3, SCENARIOS
+
+
+@pytest.mark.parametrize("scenario", SCENARIOS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("solver", ["monolithic", "cosim"])
+def test_run_equals_the_command_line(tmp_path, scenario, solver):
+    done = cli("run", scenario, "--solver", solver, "--quiet", "--out", tmp_path / "cli")
+    assert done.returncode == 0, done.stderr
+    r = tbi.run(scenario, solver=solver, out=tmp_path / "py")
+    with open(tmp_path / "cli" / "summary.json", encoding="utf-8") as f:
+        expected = json.load(f)
+    assert comparable(r.summary) == comparable(expected)
+    assert r.summary["solver"] == solver
+    assert (r.coupling is None) == (solver == "monolithic")
+    # history.csv: the same bytes, and the DataFrame is that file
+    cli_history = (tmp_path / "cli" / "history.csv").read_bytes()
+    assert (tmp_path / "py" / "history.csv").read_bytes() == cli_history
+    pd.testing.assert_frame_equal(r.history, pd.read_csv(tmp_path / "cli" / "history.csv"))
+    # without out: the same results, nothing left behind
+    r2 = tbi.run(scenario, solver=solver)
+    assert r2.out is None
+    assert comparable(r2.summary) == comparable(expected)
+    pd.testing.assert_frame_equal(r2.history, r.history)
+
+
+def test_a_scenario_as_dict_or_text_equals_the_file(tmp_path):
+    path = DATA / "yang-yau.toml"
+    base, base_dir = tbi.as_dict(path)
+    assert base_dir == str(DATA)
+    by_path = tbi.run(path)
+    by_dict = tbi.run(base)
+    by_text = tbi.run(path.read_text(encoding="utf-8"))
+    for r in (by_dict, by_text):
+        assert comparable(r.summary) == comparable(by_path.summary)
+        pd.testing.assert_frame_equal(r.history, by_path.history)
+
+
+def test_default_scenario_export_and_modes(tmp_path):
+    import tomllib
+
+    done = cli("scenario", "show")
+    assert done.returncode == 0
+    assert tbi.default_scenario() == tomllib.loads(done.stdout)
+    paths = tbi.export(DATA / "yang-yau.toml", out=tmp_path)
+    assert sorted(p.name for p in paths.values()) == ["bridge.fmu", "system.ssp", "train.fmu"]
+    import fmpy
+
+    result = fmpy.simulate_fmu(str(paths["bridge"]), stop_time=0.01)
+    assert len(result) > 1
+    m = tbi.modes(DATA / "yang-yau.toml")
+    assert list(m.columns) == ["mode", "label", "frequency_hz", "damping_ratio"]
+    summary = tbi.run(DATA / "yang-yau.toml", solver="monolithic").summary
+    assert m["frequency_hz"].tolist() == summary["bridge"]["frequencies_hz"]
+
+
+def test_bad_scenarios_raise_scenario_error_with_the_cli_message(tmp_path):
+    text = (DATA / "yang-yau.toml").read_text(encoding="utf-8")
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("speed_kmh = 100.0", "speed_kmh = -5.0"), encoding="utf-8")
+    done = cli("run", bad, "--quiet", "--out", tmp_path / "cli")
+    assert done.returncode == 1
+    with pytest.raises(tbi.ScenarioError) as e:
+        tbi.run(bad, out=tmp_path / "py")
+    assert "run.speed_kmh" in str(e.value) and "-5" in str(e.value)
+    assert done.stderr.strip() == f"tbi: error: {e.value}"
+    assert not (tmp_path / "py" / "summary.json").exists()
+    base, _ = tbi.as_dict(DATA / "yang-yau.toml")
+    base["bridge"]["modes"] = 0
+    with pytest.raises(tbi.ScenarioError, match="bridge.modes"):
+        tbi.run(base)
+    base["bridge"]["modes"] = 3
+    with pytest.raises(tbi.ScenarioError, match="solver"):
+        tbi.run(base, solver="magic")
+    with pytest.raises(TypeError):
+        tbi.run(42)
+
+
+def test_a_failing_case_is_reported_in_its_row():
+    rows = tbi.sweep(
+        DATA / "yang-yau.toml",
+        vary={"run.speed_kmh": [80.0, -5.0, 120.0]},
+        solver="monolithic",
+    )
+    assert rows["run.speed_kmh"].tolist() == [80.0, -5.0, 120.0]
+    assert rows["status"].tolist() == ["ok", "failed", "ok"]
+    assert "ScenarioError" in rows["error"][1] and "run.speed_kmh" in rows["error"][1]
+    assert rows["mid.vertical_displacement_max_m"][0] > 0
+    # a key that is not a table is named
+    bad = tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh.x": [1]})
+    assert bad["status"][0] == "failed" and "run.speed_kmh" in bad["error"][0]
+
+
+def test_a_local_sweep_equals_single_runs():
+    speeds = [60.0, 100.0]
+    rows = tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh": speeds}, solver="monolithic")
+    for speed, (_, row) in zip(speeds, rows.iterrows()):
+        base, _ = tbi.as_dict(DATA / "yang-yau.toml")
+        base["run"]["speed_kmh"] = speed
+        s = tbi.run(base, solver="monolithic", base_dir=DATA).summary
+        assert row["mid.vertical_displacement_max_m"] == s["probes"]["mid"]["vertical_displacement_max_m"]
+        assert row["steps"] == s["steps"]
+
+
+def without_wall_time(frame):
+    return frame.drop(columns=["wall_time_s"]).reset_index(drop=True)
+
+
+def local_cluster():
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    cluster = LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    )
+    return cluster, Client(cluster)
+
+
+def test_a_sweep_on_a_local_dask_cluster_equals_the_local_sweep():
+    vary = {"run.speed_kmh": [60.0, 80.0, 100.0, 120.0], "bridge.damping_ratio": [0.0, 0.02]}
+    local = tbi.sweep(DATA / "yang-yau.toml", vary=vary, solver="monolithic")
+    assert len(local) == 8 and (local["status"] == "ok").all()
+    cluster, client = local_cluster()
+    try:
+        remote = tbi.sweep(DATA / "yang-yau.toml", vary=vary, solver="monolithic", client=client)
+    finally:
+        client.close()
+        cluster.close()
+    pd.testing.assert_frame_equal(without_wall_time(remote), without_wall_time(local))
+
+
+def test_a_worker_killed_during_a_sweep_loses_no_case():
+    # 16 co-simulation cases of about half a second each on two single-threaded workers
+    vary = {"run.speed_kmh": [60.0 + 5.0 * i for i in range(16)]}
+    local = tbi.sweep(DATA / "yang-yau.toml", vary=vary, solver="cosim")
+    assert len(local) == 16 and (local["status"] == "ok").all()
+    cluster, client = local_cluster()
+    killed = {}
+
+    def kill_one_busy_worker():
+        deadline = time.time() + 60
+        while time.time() < deadline and not killed:
+            busy = {w: keys for w, keys in client.processing().items() if keys}
+            if busy and sum(1 for f in client.futures.values() if f.status == "finished") >= 1:
+                worker = sorted(busy)[0]
+                pid = client.run(os.getpid, workers=[worker])[worker]
+                os.kill(pid, signal.SIGKILL)
+                killed.update(worker=worker, pid=pid, processing=len(busy[worker]))
+                return
+            time.sleep(0.05)
+
+    killer = threading.Thread(target=kill_one_busy_worker)
+    try:
+        killer.start()
+        remote = tbi.sweep(DATA / "yang-yau.toml", vary=vary, solver="cosim", client=client)
+        killer.join()
+    finally:
+        client.close()
+        cluster.close()
+    assert killed, "no worker was killed during the sweep"
+    assert killed["processing"] >= 1
+    with pytest.raises(ProcessLookupError):
+        os.kill(killed["pid"], 0)
+    assert len(remote) == 16
+    pd.testing.assert_frame_equal(without_wall_time(remote), without_wall_time(local))
