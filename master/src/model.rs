@@ -217,7 +217,10 @@ pub fn build_bridge(s: &Scenario) -> Result<ModalBridge, InputError> {
 
 /// Build everything.
 pub fn build(s: &Scenario) -> Result<Model, InputError> {
-    let bridge = build_bridge(s)?;
+    let mut bridge = build_bridge(s)?;
+    if let Some(w) = &s.wind {
+        bridge.steady_modal_force = bridge.uniform_load(w.deck_load());
+    }
     if let Some((n, f)) = bridge
         .frequencies_hz
         .iter()

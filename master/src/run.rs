@@ -25,6 +25,10 @@ pub struct RunArgs {
     /// Override the scenario's speed, km/h.
     #[arg(long = "speed-kmh", allow_negative_numbers = true)]
     pub speed_kmh: Option<f64>,
+    /// Mean wind speed on the deck, m/s (the `[wind]` table's, or with the suspension
+    /// preset's deck coefficients when the scenario has none).
+    #[arg(long = "wind-speed", allow_negative_numbers = true)]
+    pub wind_speed: Option<f64>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -37,11 +41,16 @@ pub struct RunArgs {
 }
 
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let scenario = crate::scenario::load(
+    let mut scenario = crate::scenario::load(
         args.scenario.as_deref(),
         args.solver.as_deref(),
         args.speed_kmh,
     )?;
+    if let Some(u) = args.wind_speed {
+        scenario
+            .set_wind_speed(u)
+            .map_err(|e| format!("--wind-speed: {e}"))?;
+    }
     let out = args
         .out
         .clone()

@@ -110,10 +110,79 @@ pub struct Scenario {
     pub track: IrregularitySpec,
     pub probes: Vec<Probe>,
     pub coupling: CouplingConfig,
+    /// `[wind]`: the mean wind on the deck; None (off) by default.
+    pub wind: Option<Wind>,
     /// Directory relative paths are resolved against (the scenario file's folder).
     pub base_dir: PathBuf,
     /// Where the scenario came from, for messages.
     pub origin: String,
+}
+
+/// `[wind]`: a steady mean wind of speed U normal to the bridge, blowing towards +y, on the
+/// deck (per unit length at the shear centre, with the deck's steady coefficients at the mean
+/// angle of attack): drag `q_y = ½ρU²B C_D` (+y), lift `½ρU²B C_L` upward (so
+/// `q_z = −½ρU²B C_L`, z down), moment `m_x = ½ρU²B² C_M` about +x (leeward side down).
+/// The bridge starts in its static response to these loads; turbulence is not applied yet.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wind {
+    /// Mean wind speed U at deck level, m/s (≥ 0, at most 100).
+    pub mean_speed_m_s: f64,
+    /// Air density ρ, kg/m³. Default 1.225.
+    #[serde(default = "default_air_density")]
+    pub air_density_kg_m3: f64,
+    /// The deck section's steady aerodynamics. Default: the suspension preset's (documented
+    /// assumptions in [`DeckAero::tsing_ma`]); required for other bridges.
+    pub deck: Option<DeckAero>,
+}
+
+fn default_air_density() -> f64 {
+    1.225
+}
+
+/// Steady aerodynamic coefficients of a deck section, referred to its width.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DeckAero {
+    /// Deck width B, m (> 0).
+    pub width_m: f64,
+    /// Drag coefficient C_D on B, along the wind, –.
+    pub drag: f64,
+    /// Lift coefficient C_L on B, upward, –. Default 0.
+    #[serde(default)]
+    pub lift: f64,
+    /// Moment coefficient C_M on B², leeward side down, –. Default 0.
+    #[serde(default)]
+    pub moment: f64,
+}
+
+impl DeckAero {
+    /// The Tsing Ma deck as assumed here (no section-model data were available to this tool):
+    /// B = 41 m (the deck's width); C_D = 0.14 on B, i.e. about 0.8 on the 7.3 m depth of
+    /// the streamlined box-truss deck; C_L = C_M = 0 at zero angle of attack.
+    pub fn tsing_ma() -> DeckAero {
+        DeckAero {
+            width_m: 41.0,
+            drag: 0.14,
+            lift: 0.0,
+            moment: 0.0,
+        }
+    }
+}
+
+impl Wind {
+    /// The deck coefficients used (the given ones).
+    pub fn deck(&self) -> DeckAero {
+        self.deck.expect("checked: a deck for a wind")
+    }
+
+    /// The steady load per unit length `(q_y, q_z, m_x)` on the deck at the shear centre,
+    /// N/m, N/m (+ down), N·m/m.
+    pub fn deck_load(&self) -> [f64; 3] {
+        let d = self.deck();
+        let qb = 0.5 * self.air_density_kg_m3 * self.mean_speed_m_s.powi(2) * d.width_m;
+        [qb * d.drag, -qb * d.lift, qb * d.width_m * d.moment]
+    }
 }
 
 /// `bridge.damping = { rule = "en1991-2", structure = "…", additional = true }`: the damping
@@ -383,6 +452,10 @@ impl Scenario {
         file.coupling
             .validate()
             .map_err(|e| c.err("coupling", "", &e.to_string()))?;
+        let wind = match file.wind {
+            Some(w) => Some(c.wind(w, &bridge)?),
+            None => None,
+        };
         Ok(Scenario {
             name: file.name,
             run,
@@ -392,9 +465,26 @@ impl Scenario {
             track: file.track.irregularity,
             probes: file.probes,
             coupling: file.coupling,
+            wind,
             base_dir: base_dir.to_path_buf(),
             origin: origin.to_string(),
         })
+    }
+
+    /// Set the mean wind speed (m/s; `tbi run --wind-speed`), checked as in the file; without
+    /// a `[wind]` table the deck takes the suspension preset's coefficients.
+    pub fn set_wind_speed(&mut self, u: f64) -> Result<(), InputError> {
+        let c = Check {
+            origin: &self.origin,
+        };
+        let mut w = self.wind.clone().unwrap_or(Wind {
+            mean_speed_m_s: u,
+            air_density_kg_m3: default_air_density(),
+            deck: None,
+        });
+        w.mean_speed_m_s = u;
+        self.wind = Some(c.wind(w, &self.bridge)?);
+        Ok(())
     }
 
     /// Change the speed (km/h), checked as in the file.
@@ -422,6 +512,7 @@ struct FileScenario {
     probes: Vec<Probe>,
     #[serde(default)]
     coupling: CouplingConfig,
+    wind: Option<Wind>,
 }
 
 fn default_name() -> String {
@@ -1329,6 +1420,50 @@ impl Check<'_> {
                 "unknown kind; expected \"moving_force\", \"sprung_mass\", \"coach_27dof\", \"hslm_a\" or \"hslm_b\"",
             )),
         }
+    }
+
+    /// `[wind]`, with the deck's coefficients defaulted for the suspension preset.
+    fn wind(&self, mut w: Wind, bridge: &Bridge) -> Result<Wind, InputError> {
+        self.non_negative("wind.mean_speed_m_s", w.mean_speed_m_s)?;
+        self.within(
+            "wind.mean_speed_m_s",
+            w.mean_speed_m_s,
+            (0.0, 100.0),
+            "(m/s)",
+        )?;
+        self.positive("wind.air_density_kg_m3", w.air_density_kg_m3)?;
+        self.within(
+            "wind.air_density_kg_m3",
+            w.air_density_kg_m3,
+            (0.1, 10.0),
+            "(kg/m³)",
+        )?;
+        let deck = match (w.deck, bridge) {
+            (Some(d), _) => d,
+            (None, Bridge::Suspension { .. }) => DeckAero::tsing_ma(),
+            (None, other) => {
+                return Err(self.err(
+                    "wind.deck",
+                    "(missing)",
+                    &format!(
+                        "a bridge of kind \"{}\" needs deck = {{ width_m = …, drag = …, lift = …, moment = … }}",
+                        other.kind()
+                    ),
+                ))
+            }
+        };
+        self.positive("wind.deck.width_m", deck.width_m)?;
+        self.within("wind.deck.width_m", deck.width_m, (0.1, 1000.0), "(m)")?;
+        for (name, v) in [
+            ("wind.deck.drag", deck.drag),
+            ("wind.deck.lift", deck.lift),
+            ("wind.deck.moment", deck.moment),
+        ] {
+            self.finite(name, v)?;
+            self.within(name, v, (-20.0, 20.0), "(–)")?;
+        }
+        w.deck = Some(deck);
+        Ok(w)
     }
 
     fn probes(&self, probes: &[Probe]) -> Result<(), InputError> {

@@ -47,6 +47,20 @@ pub struct BridgeSummary {
     /// The damping rule and the ratio it gave, when the scenario chose one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<crate::scenario::DampingRule>,
+    /// The mean wind on the deck, when the scenario has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindSummary>,
+}
+
+/// The mean wind of a run and the steady deck load it gave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WindSummary {
+    pub mean_speed_m_s: f64,
+    pub air_density_kg_m3: f64,
+    pub deck: crate::scenario::DeckAero,
+    /// Steady deck load per unit length at the shear centre: lateral N/m (+y), vertical N/m
+    /// (+ down), torque N·m/m.
+    pub deck_load: [f64; 3],
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,6 +111,12 @@ impl Summary {
                 labels: model.bridge.labels.clone(),
                 length_m: model.bridge.length_m(),
                 damping: s.damping_rule.clone(),
+                wind: s.wind.as_ref().map(|w| WindSummary {
+                    mean_speed_m_s: w.mean_speed_m_s,
+                    air_density_kg_m3: w.air_density_kg_m3,
+                    deck: w.deck(),
+                    deck_load: w.deck_load(),
+                }),
             },
             train: TrainSummary {
                 vehicles: model.train.vehicles.len(),
@@ -154,6 +174,16 @@ pub fn text(s: &Summary, out: &Path) -> String {
             format!(" — {}", s.status.to_uppercase())
         }
     );
+    if let Some(w) = &s.bridge.wind {
+        let _ = writeln!(
+            t,
+            "  wind: mean {} m/s on the deck (steady drag {:.0} N/m, lift {:.0} N/m, moment {:.0} N·m/m); the bridge starts in its static response",
+            crate::model::num(w.mean_speed_m_s),
+            w.deck_load[0],
+            -w.deck_load[1],
+            w.deck_load[2]
+        );
+    }
     let probe_max = |f: fn(&ProbeMax) -> f64| {
         s.probes
             .iter()

@@ -52,6 +52,7 @@ impl ModalBridge {
                 values,
                 order,
             },
+            steady_modal_force: Vec::new(),
         }
     }
 }

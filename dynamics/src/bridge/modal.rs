@@ -12,7 +12,9 @@
 //!
 //! By virtual work the generalised force of a wheelset force `f = (F_y, M_x, F_z)` is
 //! `Ψ(x)ᵀ f` (eq. 12), which contains the torque `M_x + h4 F_y + e F_z` about the shear centre.
-//! Each mode obeys `q̈ₙ + 2ζₙωₙ q̇ₙ + ωₙ² qₙ = Fₙ` (eq. 10).
+//! Each mode obeys `q̈ₙ + 2ζₙωₙ q̇ₙ + ωₙ² qₙ = Fₙ + Sₙ` (eq. 10), `Sₙ` the generalised force
+//! of steady loads on the deck (the mean wind, [`ModalBridge::uniform_load`]); the bridge
+//! starts at its static response `qₙ = Sₙ / ωₙ²` to them.
 //!
 //! Shapes are either analytic sine series (simply supported spans, exact at every x) or
 //! nodal values interpolated with Lagrange polynomials through the `order` nearest nodes
@@ -58,6 +60,10 @@ pub struct ModalBridge {
     /// Height of the wheelset reference point above the shear centre `h4`, m.
     pub h4_m: f64,
     pub shapes: Shapes,
+    /// Generalised force `Sₙ` of steady deck loads per mode (empty: none), N·m/√kg with the
+    /// mass-normalised shapes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub steady_modal_force: Vec<f64>,
 }
 
 impl ModalBridge {
@@ -100,6 +106,48 @@ impl ModalBridge {
 
     pub fn n_modes(&self) -> usize {
         self.frequencies_hz.len()
+    }
+
+    /// The steady generalised force `Sₙ` of mode `n` (0 without steady loads).
+    pub fn steady(&self, n: usize) -> f64 {
+        self.steady_modal_force.get(n).copied().unwrap_or(0.0)
+    }
+
+    /// The static modal response to the steady loads, `qₙ = Sₙ / ωₙ²`.
+    pub fn steady_response(&self) -> Vec<f64> {
+        self.omegas()
+            .iter()
+            .enumerate()
+            .map(|(n, w)| self.steady(n) / (w * w))
+            .collect()
+    }
+
+    /// Generalised forces `Fₙ = ∫ (φ_h q_y + φ_v q_z + φ_θ m_x) dx` of a load per unit length
+    /// `q = (q_y, q_z, m_x)` (N/m lateral +y, N/m vertical + down, N·m/m torque about +x at
+    /// the shear centre) uniform over the whole deck: composite Simpson's rule over 4000
+    /// intervals of the interpolated shapes.
+    pub fn uniform_load(&self, q: [f64; 3]) -> Vec<f64> {
+        let n = self.n_modes();
+        let m = 4000;
+        let h = self.length_m() / m as f64;
+        let mut out = vec![0.0; n];
+        let mut phi = vec![[0.0; 3]; n];
+        for i in 0..=m {
+            let x = (self.x_start_m + i as f64 * h).min(self.x_end_m);
+            let w = if i == 0 || i == m {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            } * h
+                / 3.0;
+            self.deck_shapes(x, &mut phi);
+            for (o, p) in out.iter_mut().zip(&phi) {
+                *o += w * (p[0] * q[0] + p[1] * q[1] + p[2] * q[2]);
+            }
+        }
+        out
     }
 
     /// Circular frequencies ωₙ, rad/s.
@@ -233,6 +281,7 @@ mod tests {
                 half_waves: vec![1, 2],
                 amplitudes: vec![[0.0, 0.1, 0.0], [0.0, 0.1, 0.0]],
             },
+            steady_modal_force: Vec::new(),
         };
         assert_eq!(b.first_non_finite(), None);
         b.frequencies_hz[1] = f64::INFINITY;

@@ -103,6 +103,7 @@ impl SimplySupported {
                 half_waves: cands.iter().map(|c| c.2).collect(),
                 amplitudes: cands.iter().map(|c| c.3).collect(),
             },
+            steady_modal_force: Vec::new(),
         }
     }
 }

@@ -84,8 +84,9 @@ pub struct Monolithic {
 }
 
 impl Monolithic {
-    /// Set up at `t = 0`: bridge at rest, vehicles in static equilibrium on the rail under
-    /// them, consistent initial accelerations.
+    /// Set up at `t = 0`: bridge at rest in its static response to the steady deck loads,
+    /// vehicles in static equilibrium on the rail under them, consistent initial
+    /// accelerations.
     pub fn new(bridge: ModalBridge, train: Train, track: Arc<dyn RailProfile>, dt: f64) -> Self {
         let nb = bridge.n_modes();
         let wheelsets = train.wheelsets();
@@ -102,6 +103,7 @@ impl Monolithic {
             .iter()
             .map(|tv| vehicle_cache(&tv.model, &nm))
             .collect();
+        let q0 = bridge.steady_response();
         let mut s = Monolithic {
             omega: bridge.omegas(),
             zeta: bridge.damping.clone(),
@@ -111,7 +113,7 @@ impl Monolithic {
             track,
             nm,
             t: 0.0,
-            q: DVector::zeros(nb),
+            q: DVector::from_vec(q0),
             qd: DVector::zeros(nb),
             qdd: DVector::zeros(nb),
             wheelsets,
@@ -172,7 +174,8 @@ impl Monolithic {
         let mut a = DMatrix::<f64>::identity(nb, nb);
         let mut rhs = DVector::zeros(nb);
         for n in 0..nb {
-            rhs[n] = -2.0 * self.zeta[n] * self.omega[n] * self.qd[n]
+            rhs[n] = self.bridge.steady(n)
+                - 2.0 * self.zeta[n] * self.omega[n] * self.qd[n]
                 - self.omega[n].powi(2) * self.q[n];
         }
         for (w, ws) in self.wheelsets.iter().enumerate() {
@@ -234,7 +237,7 @@ impl Monolithic {
             w.qm[n] = nm.mass_pred(self.q[n], self.qd[n], self.qdd[n]);
             w.qc[n] = nm.damp_pred(self.q[n], self.qd[n]);
             w.dhat[n] = nm.a0 + nm.a1 * c + self.omega[n] * self.omega[n];
-            w.bq[n] = w.qm[n] + c * w.qc[n];
+            w.bq[n] = w.qm[n] + c * w.qc[n] + self.bridge.steady(n);
         }
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let model = &tv.model;

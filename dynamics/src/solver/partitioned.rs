@@ -169,12 +169,16 @@ impl BridgeSide {
         fq
     }
 
-    /// Bridge at rest; initial acceleration from the inputs at t = 0.
+    /// Bridge at rest in its static response to the steady deck loads; initial
+    /// acceleration from the inputs at t = 0.
     pub fn initialize(&mut self, inputs: &[WheelInput]) {
         let nb = self.omega.len();
-        self.state.q = vec![0.0; nb];
+        self.state.q = self.bridge.steady_response();
         self.state.qd = vec![0.0; nb];
-        self.state.qdd = self.modal_force(inputs);
+        let fq = self.modal_force(inputs);
+        self.state.qdd = (0..nb)
+            .map(|n| fq[n] + self.bridge.steady(n) - self.omega[n].powi(2) * self.state.q[n])
+            .collect();
     }
 
     /// One Newmark step of size `h` with end-of-step inputs.
@@ -191,7 +195,8 @@ impl BridgeSide {
             let c = 2.0 * self.zeta[n] * self.omega[n];
             let k = self.omega[n] * self.omega[n];
             let (qp, qdp) = nm.predict(s.q[n], s.qd[n], s.qdd[n]);
-            let a = (fq[n] - c * qdp - k * qp) / (1.0 + 0.5 * h * c + 0.25 * h * h * k);
+            let f = fq[n] + self.bridge.steady(n);
+            let a = (f - c * qdp - k * qp) / (1.0 + 0.5 * h * c + 0.25 * h * h * k);
             (s.q[n], s.qd[n]) = nm.correct((qp, qdp), a);
             s.qdd[n] = a;
         }
