@@ -375,6 +375,21 @@ pub struct TrainResources {
     /// First-axle position at the start time, m.
     pub x0_m: f64,
     pub hunting: HuntingParams,
+    /// A steady crosswind on the car bodies (None: still air).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crosswind: Option<Crosswind>,
+}
+
+/// A steady mean wind normal to the track (towards +y) on the car bodies
+/// ([`crate::vehicle::aero`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Crosswind {
+    /// Mean wind speed U, m/s.
+    pub mean_speed_m_s: f64,
+    /// Air density ρ, kg/m³.
+    pub air_density_kg_m3: f64,
+    /// The car bodies' coefficients.
+    pub aero: crate::vehicle::aero::VehicleAero,
 }
 
 impl TrainResources {
@@ -382,7 +397,15 @@ impl TrainResources {
     /// [`Train`] is built from its description, for the monolithic solver and in the train
     /// FMU.
     pub fn build(&self, start_time: f64) -> Result<Train, String> {
-        let vehicles = self.spec.vehicles()?;
+        let mut vehicles = self.spec.vehicles()?;
+        if let Some(w) = &self.crosswind {
+            let loads = w
+                .aero
+                .loads(self.speed_m_s.m_s(), w.mean_speed_m_s, w.air_density_kg_m3);
+            for v in &mut vehicles {
+                v.model = Arc::new(v.model.in_crosswind(&loads)?);
+            }
+        }
         let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
         let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
         let speed_m_s = self.speed_m_s.m_s();

@@ -218,7 +218,7 @@ impl TrainFmu {
             let model = &side.train.vehicles[ws.vehicle].model;
             let loads = WheelLoads::from_force(
                 &f,
-                model.wheelsets[ws.local].p0.z,
+                model.wheelsets[ws.local].reference_load_n(),
                 model.contact_distance_m,
             );
             // In the order of layout::WHEEL_OUT.

@@ -22,3 +22,4 @@ pub mod summary;
 pub mod suspension;
 pub mod sweep;
 pub mod validate;
+pub mod wind_curve;

@@ -257,6 +257,11 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
         speed_m_s: s.run.speed,
         x0_m: s.run.start_x_m.unwrap_or(bridge.x_start_m),
         hunting: s.train.hunting.clone(),
+        crosswind: s.wind.as_ref().map(|w| tbi_dynamics::interface::Crosswind {
+            mean_speed_m_s: w.mean_speed_m_s,
+            air_density_kg_m3: w.air_density_kg_m3,
+            aero: w.vehicle.clone(),
+        }),
     };
     if train_res.x0_m >= bridge.x_end_m {
         return Err(InputError::field(

@@ -91,7 +91,10 @@ pub fn layout(model: &Model) -> Layout {
             .iter()
             .map(|w| {
                 let m = &model.train.vehicles[w.vehicle].model;
-                (m.wheelsets[w.local].p0.z, m.contact_distance_m)
+                (
+                    m.wheelsets[w.local].reference_load_n(),
+                    m.contact_distance_m,
+                )
             })
             .collect(),
     }

@@ -122,7 +122,9 @@ pub struct Scenario {
 /// deck (per unit length at the shear centre, with the deck's steady coefficients at the mean
 /// angle of attack): drag `q_y = ½ρU²B C_D` (+y), lift `½ρU²B C_L` upward (so
 /// `q_z = −½ρU²B C_L`, z down), moment `m_x = ½ρU²B² C_M` about +x (leeward side down).
-/// The bridge starts in its static response to these loads; turbulence is not applied yet.
+/// The bridge starts in its static response to these loads. On the car bodies of coaches
+/// the same wind gives steady side force, lift and rolling moment from the yaw angle of the
+/// relative wind ([`tbi_dynamics::vehicle::aero`]). Turbulence is not applied yet.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Wind {
@@ -134,6 +136,11 @@ pub struct Wind {
     /// The deck section's steady aerodynamics. Default: the suspension preset's (documented
     /// assumptions in [`DeckAero::tsing_ma`]); required for other bridges.
     pub deck: Option<DeckAero>,
+    /// The car bodies' coefficients against the yaw angle of the relative wind (coaches;
+    /// moving forces and sprung masses carry no wind load). Default: the assumed ones of
+    /// [`tbi_dynamics::vehicle::aero::VehicleAero::default`].
+    #[serde(default)]
+    pub vehicle: tbi_dynamics::vehicle::aero::VehicleAero,
 }
 
 fn default_air_density() -> f64 {
@@ -481,6 +488,7 @@ impl Scenario {
             mean_speed_m_s: u,
             air_density_kg_m3: default_air_density(),
             deck: None,
+            vehicle: Default::default(),
         });
         w.mean_speed_m_s = u;
         self.wind = Some(c.wind(w, &self.bridge)?);
@@ -1463,6 +1471,9 @@ impl Check<'_> {
             self.within(name, v, (-20.0, 20.0), "(–)")?;
         }
         w.deck = Some(deck);
+        w.vehicle
+            .validate()
+            .map_err(|(f, why)| self.err(&format!("wind.vehicle.{f}"), "", &why))?;
         Ok(w)
     }
 

@@ -41,6 +41,14 @@ pub struct SweepArgs {
     /// max(30 Hz, 1.5 f₁, f₃) that EN 1990 A2.4.4.2.1 considers.
     #[arg(long)]
     pub all_modes: bool,
+    /// Mean wind speeds, m/s (a list or `start:stop:step`): every train speed in every wind;
+    /// `wind_curve.csv` gives per train speed the largest wind that keeps the wheel unloading
+    /// ΔQ/Q₀ within `--wheel-unloading-limit` (the characteristic wind curve).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub wind_speeds: Vec<String>,
+    /// With `--wind-speeds`: the limit of the wheel unloading ΔQ/Q₀ (EN 14067-6).
+    #[arg(long, default_value_t = 0.9)]
+    pub wheel_unloading_limit: f64,
     /// Solver (default: the scenario's).
     #[arg(long)]
     pub solver: Option<String>,
@@ -124,12 +132,18 @@ pub const TABLE2: [Row; 8] = [
 /// is a whole number of steps from the start, to 1e-9 of a step); a speed given twice is
 /// refused.
 pub fn parse_speeds(items: &[String]) -> Result<Vec<f64>, String> {
+    parse_range(items, "--speeds", "km/h")
+}
+
+/// Values of option `flag` (in `unit`): comma-separated items, each a number or
+/// `start:stop:step` (stop included); each value once.
+pub fn parse_range(items: &[String], flag: &str, unit: &str) -> Result<Vec<f64>, String> {
     let number = |t: &str| -> Result<f64, String> {
         t.trim()
             .parse::<f64>()
             .ok()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("--speeds: \"{}\" is not a number", t.trim()))
+            .ok_or_else(|| format!("{flag}: \"{}\" is not a number", t.trim()))
     };
     let mut speeds = Vec::new();
     for item in items {
@@ -140,29 +154,29 @@ pub fn parse_speeds(items: &[String]) -> Result<Vec<f64>, String> {
                 let (start, stop, step) = (number(a)?, number(b)?, number(c)?);
                 if step <= 0.0 || stop < start {
                     return Err(format!(
-                        "--speeds {item}: expected start:stop:step with stop ≥ start and step > 0"
+                        "{flag} {item}: expected start:stop:step with stop ≥ start and step > 0"
                     ));
                 }
                 let n = ((stop - start) / step + 1e-9).floor();
                 if n > 100_000.0 {
-                    return Err(format!("--speeds {item}: {n} speeds, more than 100000"));
+                    return Err(format!("{flag} {item}: {n} values, more than 100000"));
                 }
                 speeds.extend((0..=n as usize).map(|k| start + k as f64 * step));
             }
             _ => {
                 return Err(format!(
-                    "--speeds {item}: expected a number or start:stop:step"
+                    "{flag} {item}: expected a number or start:stop:step"
                 ))
             }
         }
     }
     if speeds.is_empty() {
-        return Err("--speeds: give at least one speed".into());
+        return Err(format!("{flag}: give at least one value"));
     }
     for (i, v) in speeds.iter().enumerate() {
         if speeds[..i].contains(v) {
             return Err(format!(
-                "--speeds: {} km/h is given twice",
+                "{flag}: {} {unit} is given twice",
                 crate::model::num(*v)
             ));
         }
@@ -189,6 +203,9 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     };
     if !args.trains.is_empty() {
         return crate::envelope::main(&args, &base, &speeds);
+    }
+    if !args.wind_speeds.is_empty() {
+        return crate::wind_curve::main(&args, &base, &speeds);
     }
     let mut cases = Vec::with_capacity(speeds.len());
     for &v in &speeds {

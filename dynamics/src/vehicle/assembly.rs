@@ -191,6 +191,7 @@ impl Builder {
                     c_ww,
                     m_w: Matrix3::from_diagonal(&Vector3::new(m_w, j_w, m_w)),
                     p0,
+                    still_air_load_n: None,
                 }
             })
             .collect();

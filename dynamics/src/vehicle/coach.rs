@@ -300,9 +300,12 @@ impl CoachParams {
         }
         b.build(
             "coach_27dof",
+            // the car body's DOFs come first, in the builder's order Y, θ, ψ, Z, φ
             BodyDofs {
                 lateral: Some(0),
                 vertical: Some(3),
+                roll: Some(1),
+                cg_height_m: p.h1_m + p.h2_m + p.h3_m,
             },
             p.contact_distance_m,
         )

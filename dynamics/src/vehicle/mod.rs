@@ -32,6 +32,7 @@
 //! from the small-rotation kinematics of the attachment points (see ARCHITECTURE.md for the
 //! axes). Symmetry follows by construction and is tested.
 
+pub mod aero;
 pub mod assembly;
 pub mod coach;
 pub mod simple;
@@ -59,6 +60,18 @@ pub struct WheelsetCoupling {
     pub m_w: Matrix3<f64>,
     /// Static force on the rail `(F_y, M_x, F_z)` in N, N·m, N (F_z > 0 downward).
     pub p0: Vector3<f64>,
+    /// The static vertical load in still air, N, when steady body loads (crosswind) have
+    /// changed `p0` ([`LinearVehicle::with_body_loads`]); None: `p0.z`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub still_air_load_n: Option<f64>,
+}
+
+impl WheelsetCoupling {
+    /// The reference load Q₀ of the offload factors and of ΔQ/Q₀: the static vertical load in
+    /// still air, N.
+    pub fn reference_load_n(&self) -> f64 {
+        self.still_air_load_n.unwrap_or(self.p0.z)
+    }
 }
 
 /// What to report as the vehicle's car-body acceleration.
@@ -68,6 +81,12 @@ pub struct BodyDofs {
     pub lateral: Option<usize>,
     /// DOF index of the car-body vertical displacement, if modelled.
     pub vertical: Option<usize>,
+    /// DOF index of the car-body roll, if modelled (crosswind loads need it).
+    #[serde(default)]
+    pub roll: Option<usize>,
+    /// Height of the car body's centre of gravity above the wheelset reference points, m.
+    #[serde(default)]
+    pub cg_height_m: f64,
 }
 
 /// A vehicle reduced to constant matrices (see the module docs).

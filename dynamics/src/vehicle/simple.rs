@@ -99,10 +99,13 @@ pub fn moving_force(load_n: f64) -> LinearVehicle {
             c_ww: Matrix3::zeros(),
             m_w: Matrix3::zeros(),
             p0: Vector3::new(0.0, 0.0, load_n),
+            still_air_load_n: None,
         }],
         body: BodyDofs {
             lateral: None,
             vertical: None,
+            roll: None,
+            cg_height_m: 0.0,
         },
         contact_distance_m: 1.5,
     }
@@ -130,6 +133,8 @@ pub fn sprung_mass(a: &SprungMassAxle) -> Result<LinearVehicle, String> {
         BodyDofs {
             lateral: None,
             vertical: Some(0),
+            roll: None,
+            cg_height_m: 0.0,
         },
         1.5,
     )?;

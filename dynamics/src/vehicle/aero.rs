@@ -1,0 +1,291 @@
+//! Steady crosswind on the car bodies (quasi-steady aerodynamics).
+//!
+//! A train at speed `v` (+x) in a mean wind `U` normal to the track (towards +y) sees the
+//! relative wind `V = √(v² + U²)` at the yaw angle `β = atan(U / v)` (90° at standstill). On
+//! each car body it exerts, with the air density ρ, the reference area `A` and height `h`,
+//!
+//! ```text
+//! side force     F_S = ½ρV² A C_S(β)        (+y, leeward)
+//! lift           F_L = ½ρV² A C_L(β)        (upward)
+//! rolling moment M_R = ½ρV² A h C_MR(β)     (about +x, leeward side down, about the line of
+//!                                            the wheelset reference points under the body)
+//! ```
+//!
+//! the coefficients interpolated linearly in β from a table. On a body whose centre of
+//! gravity is `H` above that line they are the generalised forces `F_S` on its lateral DOF,
+//! `−F_L` on its vertical DOF (z down) and `M_R − H F_S` on its roll DOF (the moment about the
+//! centre of gravity).
+//!
+//! Constant loads `f` on the vehicle DOFs only shift its static equilibrium, `v_s = K_vv⁻¹ f`,
+//! as gravity does ([`super::assembly`]): with the DOFs measured from that equilibrium the
+//! equations of motion are unchanged and the static rail forces become
+//! `P0 − K_wv v_s` ([`LinearVehicle::with_body_loads`]). Their sums are the moment balance of
+//! the body loads: `Σ F_y = F_S`, `Σ M_x = M_R`, `Σ F_z = W − F_L`; the still-air load of each
+//! wheelset stays the reference `Q₀` of the wheel unloading `ΔQ/Q₀`.
+//!
+//! The default coefficients are assumptions of the magnitude reported for passenger coaches
+//! (not measurements of the paper's coach): see [`VehicleAero::default`].
+
+use super::LinearVehicle;
+use nalgebra::DVector;
+use serde::{Deserialize, Serialize};
+
+/// Aerodynamic coefficients of a car body against the yaw angle of the relative wind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct VehicleAero {
+    /// Reference area A, m². Default 10.
+    pub area_m2: f64,
+    /// Reference height h of the rolling moment, m. Default 3.
+    pub height_m: f64,
+    /// Yaw angles β of the table, degrees, ascending in [0, 90].
+    pub yaw_deg: Vec<f64>,
+    /// Side-force coefficient C_S(β), –.
+    pub side: Vec<f64>,
+    /// Lift coefficient C_L(β), –.
+    pub lift: Vec<f64>,
+    /// Rolling-moment coefficient C_MR(β), –.
+    pub roll: Vec<f64>,
+}
+
+impl Default for VehicleAero {
+    /// Assumed coefficients (A = 10 m², h = 3 m): side force rising with the yaw angle to 7.5
+    /// at 90°, lift to 2.0 and rolling moment to 3.6, the shape of the curves reported for
+    /// passenger coaches in crosswind studies; replace them with measured ones.
+    fn default() -> Self {
+        VehicleAero {
+            area_m2: 10.0,
+            height_m: 3.0,
+            yaw_deg: vec![0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0],
+            side: vec![0.0, 1.2, 2.6, 3.9, 5.0, 5.9, 6.6, 7.1, 7.4, 7.5],
+            lift: vec![0.0, 0.3, 0.7, 1.1, 1.4, 1.7, 1.85, 1.95, 2.0, 2.0],
+            roll: vec![0.0, 0.6, 1.3, 1.9, 2.4, 2.9, 3.2, 3.4, 3.55, 3.6],
+        }
+    }
+}
+
+/// The steady loads on one car body.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BodyLoads {
+    /// Side force F_S, N (+y).
+    pub side_n: f64,
+    /// Lift F_L, N (upward).
+    pub lift_n: f64,
+    /// Rolling moment M_R about the wheelset reference line, N·m (leeward side down).
+    pub roll_nm: f64,
+    /// Yaw angle β of the relative wind, degrees.
+    pub yaw_deg: f64,
+}
+
+impl VehicleAero {
+    /// Check the table (as many coefficients as angles, angles ascending in [0, 90], every
+    /// number finite, A and h positive); the name of the first bad field and why.
+    pub fn validate(&self) -> Result<(), (String, String)> {
+        if !(self.area_m2.is_finite() && self.area_m2 > 0.0) {
+            return Err((
+                "area_m2".into(),
+                format!("{} must be positive", self.area_m2),
+            ));
+        }
+        if !(self.height_m.is_finite() && self.height_m > 0.0) {
+            return Err((
+                "height_m".into(),
+                format!("{} must be positive", self.height_m),
+            ));
+        }
+        let n = self.yaw_deg.len();
+        if n < 2 {
+            return Err(("yaw_deg".into(), "give at least two yaw angles".into()));
+        }
+        for (i, w) in self.yaw_deg.windows(2).enumerate() {
+            if w[1].is_nan() || w[1] <= w[0] {
+                return Err((
+                    "yaw_deg".into(),
+                    format!(
+                        "yaw_deg[{}] = {} does not ascend from {}",
+                        i + 1,
+                        w[1],
+                        w[0]
+                    ),
+                ));
+            }
+        }
+        if !(self.yaw_deg[0] >= 0.0 && self.yaw_deg[n - 1] <= 90.0) {
+            return Err((
+                "yaw_deg".into(),
+                "angles must lie in [0, 90] degrees".into(),
+            ));
+        }
+        for (name, v) in [
+            ("side", &self.side),
+            ("lift", &self.lift),
+            ("roll", &self.roll),
+        ] {
+            if v.len() != n {
+                return Err((
+                    name.into(),
+                    format!("{} values for {n} yaw angles", v.len()),
+                ));
+            }
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                return Err((format!("{name}[{i}]"), format!("{} is not finite", v[i])));
+            }
+        }
+        Ok(())
+    }
+
+    fn at(&self, table: &[f64], beta_deg: f64) -> f64 {
+        let b = beta_deg.clamp(self.yaw_deg[0], *self.yaw_deg.last().expect("validated"));
+        let k = self
+            .yaw_deg
+            .partition_point(|&a| a <= b)
+            .clamp(1, self.yaw_deg.len() - 1);
+        let (a0, a1) = (self.yaw_deg[k - 1], self.yaw_deg[k]);
+        table[k - 1] + (b - a0) / (a1 - a0) * (table[k] - table[k - 1])
+    }
+
+    /// The loads on a car body at train speed `v` (m/s, ≥ 0) in a mean wind `u` (m/s, ≥ 0)
+    /// normal to the track, air density `rho` (kg/m³).
+    pub fn loads(&self, v: f64, u: f64, rho: f64) -> BodyLoads {
+        let v2 = v * v + u * u;
+        let beta = if v2 > 0.0 {
+            u.atan2(v).to_degrees()
+        } else {
+            0.0
+        };
+        let q = 0.5 * rho * v2 * self.area_m2;
+        BodyLoads {
+            side_n: q * self.at(&self.side, beta),
+            lift_n: q * self.at(&self.lift, beta),
+            roll_nm: q * self.height_m * self.at(&self.roll, beta),
+            yaw_deg: beta,
+        }
+    }
+}
+
+impl LinearVehicle {
+    /// The vehicle with constant loads `f` (one per DOF) added to its static equilibrium
+    /// (module docs); the still-air loads stay the wheelsets' reference.
+    pub fn with_body_loads(&self, f: &DVector<f64>) -> Result<LinearVehicle, String> {
+        let n = self.ndof();
+        if f.len() != n {
+            return Err(format!("{} loads for {n} DOFs", f.len()));
+        }
+        let mut out = self.clone();
+        if n == 0 {
+            return Ok(out);
+        }
+        let v_s = self
+            .k
+            .clone()
+            .cholesky()
+            .ok_or("the stiffness matrix is not positive definite")?
+            .solve(f);
+        for ws in &mut out.wheelsets {
+            ws.still_air_load_n.get_or_insert(ws.p0.z);
+            let shift = ws.k_vw.tr_mul(&v_s);
+            for k in 0..3 {
+                ws.p0[k] -= shift[k];
+            }
+        }
+        Ok(out)
+    }
+
+    /// The vehicle in a steady crosswind: `loads` on its car body (lateral, vertical and roll
+    /// DOFs of [`super::BodyDofs`]). Vehicles without a car body that rolls (moving forces,
+    /// sprung masses) are returned unchanged.
+    pub fn in_crosswind(&self, loads: &BodyLoads) -> Result<LinearVehicle, String> {
+        let b = self.body;
+        let (Some(y), Some(z), Some(roll)) = (b.lateral, b.vertical, b.roll) else {
+            return Ok(self.clone());
+        };
+        let mut f = DVector::zeros(self.ndof());
+        f[y] = loads.side_n;
+        f[z] = -loads.lift_n;
+        f[roll] = loads.roll_nm - b.cg_height_m * loads.side_n;
+        self.with_body_loads(&f)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vehicle::coach::CoachParams;
+    use crate::vehicle::WheelLoads;
+
+    /// The 27-DOF coach in a steady crosswind on rigid track: the static rail forces balance
+    /// the body loads exactly (Σ F_y = F_S, Σ M_x = M_R, Σ F_z = W − F_L), every wheelset
+    /// carries a quarter (the coach is symmetric), so the windward wheel unloading is the
+    /// closed form ΔQ/Q₀ = (F_L + 2 M_R / b) / W, b the contact distance.
+    #[test]
+    fn a_coach_in_crosswind_balances_the_body_loads() {
+        let p = CoachParams::xia2000();
+        let coach = p.build().unwrap();
+        let aero = VehicleAero::default();
+        let loads = aero.loads(200.0 / 3.6, 25.0, 1.225);
+        assert!((loads.yaw_deg - (25.0_f64).atan2(200.0 / 3.6).to_degrees()).abs() < 1e-12);
+        let windy = coach.in_crosswind(&loads).unwrap();
+        let w: f64 = coach.wheelsets.iter().map(|ws| ws.p0.z).sum();
+        let sum = |k: usize| windy.wheelsets.iter().map(|ws| ws.p0[k]).sum::<f64>();
+        let tol = 1e-9 * w;
+        assert!(
+            (sum(0) - loads.side_n).abs() < tol,
+            "Σ F_y {} vs F_S {}",
+            sum(0),
+            loads.side_n
+        );
+        assert!(
+            (sum(1) - loads.roll_nm).abs() < tol,
+            "Σ M_x {} vs M_R {}",
+            sum(1),
+            loads.roll_nm
+        );
+        assert!(
+            (sum(2) - (w - loads.lift_n)).abs() < tol,
+            "Σ F_z {} vs W − F_L",
+            sum(2)
+        );
+        let b = coach.contact_distance_m;
+        let closed = (loads.lift_n + 2.0 * loads.roll_nm / b) / w;
+        assert!(closed > 0.05, "{closed}");
+        for ws in &windy.wheelsets {
+            assert_eq!(ws.reference_load_n(), w / 4.0);
+            let l = WheelLoads::from_force(&ws.p0, ws.reference_load_n(), b);
+            assert!(
+                (l.offload_wheel - closed).abs() < 1e-9,
+                "ΔQ/Q₀ {} vs closed form {closed}",
+                l.offload_wheel
+            );
+        }
+        // the equations of motion are unchanged: only the static loads moved
+        assert_eq!(windy.k, coach.k);
+        assert_eq!(windy.m, coach.m);
+        // no wind, no change
+        let calm = coach.in_crosswind(&aero.loads(50.0, 0.0, 1.225)).unwrap();
+        for (a, b) in calm.wheelsets.iter().zip(&coach.wheelsets) {
+            assert!((a.p0 - b.p0).norm() < 1e-6 * w);
+        }
+    }
+
+    #[test]
+    fn coefficients_interpolate_and_bad_tables_are_named() {
+        let a = VehicleAero::default();
+        assert!(a.validate().is_ok());
+        // at standstill β = 90°, the table's last values
+        let l = a.loads(0.0, 20.0, 1.2);
+        let q = 0.5 * 1.2 * 400.0 * 10.0;
+        assert!((l.side_n - q * 7.5).abs() < 1e-9 && (l.roll_nm - q * 3.0 * 3.6).abs() < 1e-9);
+        // halfway between 10° and 20°
+        assert!((a.at(&a.side, 15.0) - 1.9).abs() < 1e-12);
+        let bad = |f: fn(&mut VehicleAero), field: &str| {
+            let mut t = VehicleAero::default();
+            f(&mut t);
+            assert_eq!(t.validate().unwrap_err().0, field);
+        };
+        bad(|t| t.yaw_deg[3] = 5.0, "yaw_deg");
+        bad(|t| t.yaw_deg[9] = 95.0, "yaw_deg");
+        bad(|t| t.side.pop().map(drop).unwrap_or(()), "side");
+        bad(|t| t.lift[2] = f64::NAN, "lift[2]");
+        bad(|t| t.area_m2 = 0.0, "area_m2");
+    }
+}
