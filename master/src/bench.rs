@@ -18,7 +18,8 @@
 //! names `monolithic_realtime_factor`, `cosim_realtime_factor`, `cosim_over_monolithic`,
 //! `cosim_iterations_per_step`, `scale_monolithic_realtime_factor`,
 //! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
-//! per simulated second), `fe_modes_50_s`, `sweep_tsing_ma_4_speeds_s`, `hslm_sweep_s`,
+//! per simulated second), `fe_modes_50_s`, `tsing_ma_wind_over_still_air`,
+//! `sweep_tsing_ma_4_speeds_s`, `hslm_sweep_s`,
 //! `hslm_runs_per_s`.
 
 use crate::run::run_scenario;
@@ -201,6 +202,24 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let fe_total = t.elapsed().as_secs_f64();
     println!("Tsing Ma FE model: assembly {assembled:.3} s, assembly + 50 modes {fe_total:.2} s");
     figures.insert("fe_modes_50_s".into(), fe_total.into());
+    // the default case with and without a turbulent 20 m/s wind (200 deck points), monolithic
+    let mut still = Scenario::default_case();
+    still.run.solver = crate::scenario::SolverKind::Monolithic;
+    let mut windy = still.clone();
+    windy.set_wind_speed(20.0)?;
+    if let Some(w) = windy.wind.as_mut() {
+        w.turbulence = Some(Default::default());
+    }
+    let (still_wall, _) = timed(&still, &args.out.join("tsing-ma-still"))?;
+    let (windy_wall, _) = timed(&windy, &args.out.join("tsing-ma-wind"))?;
+    println!(
+        "Tsing Ma case, monolithic: still air {still_wall:.2} s, turbulent 20 m/s wind (200 deck points, field generated in the run) {windy_wall:.2} s, ratio {:.2}",
+        windy_wall / still_wall
+    );
+    figures.insert(
+        "tsing_ma_wind_over_still_air".into(),
+        (windy_wall / still_wall).into(),
+    );
     let t = Instant::now();
     crate::sweep::main(crate::sweep::SweepArgs {
         scenario: None,

@@ -292,6 +292,25 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             e.to_string(),
         )
     })?;
+    if let Some(w) = s.wind.as_ref().filter(|w| w.mean_speed_m_s > 0.0) {
+        if let Some(t) = &w.turbulence {
+            let d = w.deck();
+            let spec = tbi_dynamics::bridge::buffeting::BuffetingSpec {
+                mean_speed_m_s: w.mean_speed_m_s,
+                air_density_kg_m3: w.air_density_kg_m3,
+                width_m: d.width_m,
+                coefficients: [d.drag, d.lift, d.moment],
+                slopes: [d.drag_slope, d.lift_slope, d.moment_slope],
+                turbulence: t.clone(),
+                points: w.deck_points,
+                duration_s: steps as f64 * s.run.dt_s,
+            };
+            // generated once here so that a bad turbulence is refused before any step
+            tbi_dynamics::bridge::buffeting::DeckBuffeting::new(&bridge, &spec)
+                .map_err(|e| InputError::field(&s.origin, "wind.turbulence", "", e))?;
+            bridge.buffeting = Some(spec);
+        }
+    }
     Ok(Model {
         name: s.name.clone(),
         bridge,

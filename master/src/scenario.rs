@@ -141,6 +141,17 @@ pub struct Wind {
     /// [`tbi_dynamics::vehicle::aero::VehicleAero::default`].
     #[serde(default)]
     pub vehicle: tbi_dynamics::vehicle::aero::VehicleAero,
+    /// Turbulence buffeting the deck (quasi-steady, [`tbi_dynamics::bridge::buffeting`]);
+    /// None (steady wind only) by default. `turbulence = {}` takes the defaults of
+    /// [`tbi_wind::Turbulence`].
+    pub turbulence: Option<tbi_wind::Turbulence>,
+    /// Deck points the turbulence is generated at, equally spaced (2 … 2000). Default 200.
+    #[serde(default = "default_deck_points")]
+    pub deck_points: usize,
+}
+
+fn default_deck_points() -> usize {
+    200
 }
 
 fn default_air_density() -> f64 {
@@ -161,6 +172,15 @@ pub struct DeckAero {
     /// Moment coefficient C_M on B², leeward side down, –. Default 0.
     #[serde(default)]
     pub moment: f64,
+    /// Slope C_D′ of the drag coefficient with the angle of attack, per rad. Default 0.
+    #[serde(default)]
+    pub drag_slope: f64,
+    /// Slope C_L′ of the lift coefficient, per rad. Default 0.
+    #[serde(default)]
+    pub lift_slope: f64,
+    /// Slope C_M′ of the moment coefficient, per rad. Default 0.
+    #[serde(default)]
+    pub moment_slope: f64,
 }
 
 impl DeckAero {
@@ -173,6 +193,9 @@ impl DeckAero {
             drag: 0.14,
             lift: 0.0,
             moment: 0.0,
+            drag_slope: 0.0,
+            lift_slope: 0.0,
+            moment_slope: 0.0,
         }
     }
 }
@@ -489,6 +512,8 @@ impl Scenario {
             air_density_kg_m3: default_air_density(),
             deck: None,
             vehicle: Default::default(),
+            turbulence: None,
+            deck_points: default_deck_points(),
         });
         w.mean_speed_m_s = u;
         self.wind = Some(c.wind(w, &self.bridge)?);
@@ -1466,9 +1491,25 @@ impl Check<'_> {
             ("wind.deck.drag", deck.drag),
             ("wind.deck.lift", deck.lift),
             ("wind.deck.moment", deck.moment),
+            ("wind.deck.drag_slope", deck.drag_slope),
+            ("wind.deck.lift_slope", deck.lift_slope),
+            ("wind.deck.moment_slope", deck.moment_slope),
         ] {
             self.finite(name, v)?;
             self.within(name, v, (-20.0, 20.0), "(–)")?;
+        }
+        if !(2..=2000).contains(&w.deck_points) {
+            return Err(self.err("wind.deck_points", w.deck_points, "must lie in 2..=2000"));
+        }
+        if let Some(t) = &w.turbulence {
+            t.validate().map_err(|e| match e {
+                tbi_wind::WindError::Invalid {
+                    field,
+                    value,
+                    reason,
+                } => self.err(&format!("wind.turbulence.{field}"), value, &reason),
+                other => self.err("wind.turbulence", "", &other.to_string()),
+            })?;
         }
         w.deck = Some(deck);
         w.vehicle

@@ -61,6 +61,12 @@ pub struct WindSummary {
     /// Steady deck load per unit length at the shear centre: lateral N/m (+y), vertical N/m
     /// (+ down), torque N·m/m.
     pub deck_load: [f64; 3],
+    /// The turbulence buffeting the deck, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turbulence: Option<tbi_wind::Turbulence>,
+    /// Deck points of the turbulence.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deck_points: Option<usize>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -116,6 +122,8 @@ impl Summary {
                     air_density_kg_m3: w.air_density_kg_m3,
                     deck: w.deck(),
                     deck_load: w.deck_load(),
+                    turbulence: w.turbulence.clone(),
+                    deck_points: w.turbulence.as_ref().map(|_| w.deck_points),
                 }),
             },
             train: TrainSummary {
@@ -177,11 +185,21 @@ pub fn text(s: &Summary, out: &Path) -> String {
     if let Some(w) = &s.bridge.wind {
         let _ = writeln!(
             t,
-            "  wind: mean {} m/s on the deck (steady drag {:.0} N/m, lift {:.0} N/m, moment {:.0} N·m/m); the bridge starts in its static response",
+            "  wind: mean {} m/s on the deck (steady drag {:.0} N/m, lift {:.0} N/m, moment {:.0} N·m/m){}; the bridge starts in its static response",
             crate::model::num(w.mean_speed_m_s),
             w.deck_load[0],
             -w.deck_load[1],
-            w.deck_load[2]
+            w.deck_load[2],
+            match &w.turbulence {
+                Some(t) => format!(
+                    ", buffeting by {} turbulence (I_u {}, I_w {}) at {} deck points",
+                    t.spectrum.name(),
+                    t.intensity_u,
+                    t.intensity_w,
+                    w.deck_points.unwrap_or(0)
+                ),
+                None => String::new(),
+            }
         );
     }
     let probe_max = |f: fn(&ProbeMax) -> f64| {

@@ -1,4 +1,5 @@
 //! The bridge as a modal model.
+pub mod buffeting;
 pub mod modal;
 /// The modes file format (crate `tbi-modes`).
 pub use tbi_modes as modes_file;
@@ -53,6 +54,7 @@ impl ModalBridge {
                 order,
             },
             steady_modal_force: Vec::new(),
+            buffeting: None,
         }
     }
 }

@@ -64,6 +64,10 @@ pub struct ModalBridge {
     /// mass-normalised shapes.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steady_modal_force: Vec<f64>,
+    /// Buffeting of the deck by a turbulent wind (None: none), generated when a solver starts
+    /// ([`super::buffeting`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub buffeting: Option<super::buffeting::BuffetingSpec>,
 }
 
 impl ModalBridge {
@@ -282,6 +286,7 @@ mod tests {
                 amplitudes: vec![[0.0, 0.1, 0.0], [0.0, 0.1, 0.0]],
             },
             steady_modal_force: Vec::new(),
+            buffeting: None,
         };
         assert_eq!(b.first_non_finite(), None);
         b.frequencies_hz[1] = f64::INFINITY;

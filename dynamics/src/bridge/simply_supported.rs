@@ -104,6 +104,7 @@ impl SimplySupported {
                 amplitudes: cands.iter().map(|c| c.3).collect(),
             },
             steady_modal_force: Vec::new(),
+            buffeting: None,
         }
     }
 }

@@ -78,6 +78,8 @@ pub struct Monolithic {
     psi: Vec<[f64; 3]>,
     presc: Vec<[Vector3<f64>; 3]>,
     cache: Vec<VehicleCache>,
+    /// The deck's buffeting forces, when the bridge has a turbulent wind.
+    buffeting: Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
     first_ws: Vec<usize>,
     on: Vec<bool>,
     work: Work,
@@ -104,7 +106,14 @@ impl Monolithic {
             .map(|tv| vehicle_cache(&tv.model, &nm))
             .collect();
         let q0 = bridge.steady_response();
+        let buffeting = bridge.buffeting.as_ref().map(|spec| {
+            Arc::new(
+                crate::bridge::buffeting::DeckBuffeting::new(&bridge, spec)
+                    .expect("the buffeting spec is checked when the model is built"),
+            )
+        });
         let mut s = Monolithic {
+            buffeting,
             omega: bridge.omegas(),
             zeta: bridge.damping.clone(),
             bridge,
@@ -178,6 +187,9 @@ impl Monolithic {
                 - 2.0 * self.zeta[n] * self.omega[n] * self.qd[n]
                 - self.omega[n].powi(2) * self.q[n];
         }
+        if let Some(b) = &self.buffeting {
+            b.add_modal_force(self.t, rhs.as_mut_slice());
+        }
         for (w, ws) in self.wheelsets.iter().enumerate() {
             let model = &self.train.vehicles[ws.vehicle].model;
             let c = &model.wheelsets[ws.local];
@@ -238,6 +250,9 @@ impl Monolithic {
             w.qc[n] = nm.damp_pred(self.q[n], self.qd[n]);
             w.dhat[n] = nm.a0 + nm.a1 * c + self.omega[n] * self.omega[n];
             w.bq[n] = w.qm[n] + c * w.qc[n] + self.bridge.steady(n);
+        }
+        if let Some(b) = &self.buffeting {
+            b.add_modal_force(t1, w.bq.as_mut_slice());
         }
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let model = &tv.model;

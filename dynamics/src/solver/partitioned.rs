@@ -71,6 +71,9 @@ pub struct ModalState {
     pub q: Vec<f64>,
     pub qd: Vec<f64>,
     pub qdd: Vec<f64>,
+    /// Time since initialisation, s (the time of the buffeting forces).
+    #[serde(default)]
+    pub t: f64,
 }
 
 impl Clone for ModalState {
@@ -79,6 +82,7 @@ impl Clone for ModalState {
             q: self.q.clone(),
             qd: self.qd.clone(),
             qdd: self.qdd.clone(),
+            t: self.t,
         }
     }
 
@@ -87,6 +91,7 @@ impl Clone for ModalState {
         self.q.clone_from(&source.q);
         self.qd.clone_from(&source.qd);
         self.qdd.clone_from(&source.qdd);
+        self.t = source.t;
     }
 }
 
@@ -102,6 +107,8 @@ pub struct BridgeSide {
     /// Rail shapes at recent positions, shared by clones (it holds derived data only, keyed
     /// by position, so a restored state may use it too).
     cache: Arc<Mutex<ShapeCache>>,
+    /// The deck's buffeting forces (derived from the bridge; shared by clones).
+    buffeting: Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
 }
 
 impl Clone for BridgeSide {
@@ -114,6 +121,7 @@ impl Clone for BridgeSide {
             zeta: self.zeta.clone(),
             scratch: self.scratch.clone(),
             cache: self.cache.clone(),
+            buffeting: self.buffeting.clone(),
         }
     }
 
@@ -126,6 +134,7 @@ impl Clone for BridgeSide {
         self.zeta.clone_from(&source.zeta);
         self.scratch.clone_from(&source.scratch);
         self.cache.clone_from(&source.cache);
+        self.buffeting.clone_from(&source.buffeting);
     }
 }
 
@@ -139,9 +148,16 @@ impl BridgeSide {
                 q: vec![0.0; nb],
                 qd: vec![0.0; nb],
                 qdd: vec![0.0; nb],
+                t: 0.0,
             },
             scratch: vec![[0.0; 3]; nb],
             cache: Arc::new(Mutex::new(ShapeCache::default())),
+            buffeting: bridge.buffeting.as_ref().map(|spec| {
+                Arc::new(
+                    crate::bridge::buffeting::DeckBuffeting::new(&bridge, spec)
+                        .expect("the buffeting spec is checked when the model is built"),
+                )
+            }),
             bridge,
             track,
         }
@@ -175,7 +191,11 @@ impl BridgeSide {
         let nb = self.omega.len();
         self.state.q = self.bridge.steady_response();
         self.state.qd = vec![0.0; nb];
-        let fq = self.modal_force(inputs);
+        self.state.t = 0.0;
+        let mut fq = self.modal_force(inputs);
+        if let Some(b) = &self.buffeting {
+            b.add_modal_force(0.0, &mut fq);
+        }
         self.state.qdd = (0..nb)
             .map(|n| fq[n] + self.bridge.steady(n) - self.omega[n].powi(2) * self.state.q[n])
             .collect();
@@ -189,8 +209,13 @@ impl BridgeSide {
     /// nominal one (the displacement form divides a round-off-sized difference by h²).
     pub fn step(&mut self, h: f64, inputs: &[WheelInput]) {
         let nm = Newmark::new(h);
-        let fq = self.modal_force(inputs);
+        let mut fq = self.modal_force(inputs);
+        let t1 = self.state.t + h;
+        if let Some(b) = &self.buffeting {
+            b.add_modal_force(t1, &mut fq);
+        }
         let s = &mut self.state;
+        s.t = t1;
         for n in 0..fq.len() {
             let c = 2.0 * self.zeta[n] * self.omega[n];
             let k = self.omega[n] * self.omega[n];

@@ -1,0 +1,114 @@
+//! Buffeting of the deck: the quasi-steady forces of the turbulent wind ([`tbi_wind`]) at
+//! points along the deck, projected on the modes.
+//!
+//! Per unit length at the shear centre, with the mean wind U towards +y, the turbulence `u`
+//! (along wind) and `w` (+ up), the deck width B and its steady coefficients and their slopes
+//! with the angle of attack (per rad):
+//!
+//! ```text
+//! drag (+y)                  D_b = ½ρU²B [2 C_D u/U + C_D′ w/U]
+//! lift (upward)              L_b = ½ρU²B [2 C_L u/U + (C_L′ + C_D) w/U]
+//! moment (leeward side down) M_b = ½ρU²B² [2 C_M u/U + C_M′ w/U]
+//! ```
+//!
+//! (no aerodynamic admittance: the quasi-steady limit). The deck points `x_j` are equally
+//! spaced over the deck with trapezoidal weights `Δx_j`; the generalised force of mode n is
+//! `Fₙ(t) = Σ_j Δx_j (φ_h D_b − φ_v L_b + φ_θ M_b)(x_j, t)` (z down: lift enters with −).
+//! The field is generated from its seed when a solver starts ([`DeckBuffeting::new`]), so the
+//! monolithic solver and the bridge FMU see the same wind.
+
+use super::ModalBridge;
+use serde::{Deserialize, Serialize};
+use tbi_wind::{Turbulence, WindField};
+
+/// What the buffeting of a deck needs (kept in the modal bridge; the field itself is
+/// generated from it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BuffetingSpec {
+    /// Mean wind speed U, m/s (> 0).
+    pub mean_speed_m_s: f64,
+    /// Air density ρ, kg/m³.
+    pub air_density_kg_m3: f64,
+    /// Deck width B, m.
+    pub width_m: f64,
+    /// Steady coefficients (C_D, C_L, C_M) on B.
+    pub coefficients: [f64; 3],
+    /// Their slopes (C_D′, C_L′, C_M′) with the angle of attack, per rad.
+    pub slopes: [f64; 3],
+    /// The turbulence.
+    pub turbulence: Turbulence,
+    /// Number of deck points (≥ 2), equally spaced from deck start to end.
+    pub points: usize,
+    /// Duration the field must cover, s (it repeats beyond).
+    pub duration_s: f64,
+}
+
+/// The buffeting forces of one run (see the module docs).
+#[derive(Debug, Clone)]
+pub struct DeckBuffeting {
+    field: WindField,
+    /// Per point: Δx_j times the shapes (lateral, vertical, torsion) of every mode, point-major.
+    weighted_shapes: Vec<[f64; 3]>,
+    n_modes: usize,
+    /// ½ρU²B, N/m.
+    q_b: f64,
+    spec: BuffetingSpec,
+}
+
+impl DeckBuffeting {
+    /// Generate the field at the deck points and tabulate the weighted shapes.
+    pub fn new(bridge: &ModalBridge, spec: &BuffetingSpec) -> Result<DeckBuffeting, String> {
+        let p = spec.points.max(2);
+        let (a, b) = (bridge.x_start_m, bridge.x_end_m);
+        let dx = (b - a) / (p - 1) as f64;
+        let x: Vec<f64> = (0..p).map(|j| a + j as f64 * dx).collect();
+        let field = WindField::generate(&spec.turbulence, spec.mean_speed_m_s, &x, spec.duration_s)
+            .map_err(|e| format!("wind.turbulence: {e}"))?;
+        let n = bridge.n_modes();
+        let mut weighted_shapes = vec![[0.0; 3]; p * n];
+        let mut phi = vec![[0.0; 3]; n];
+        for (j, &xj) in x.iter().enumerate() {
+            let w = if j == 0 || j == p - 1 { 0.5 * dx } else { dx };
+            bridge.deck_shapes(xj.clamp(a, b), &mut phi);
+            for m in 0..n {
+                for c in 0..3 {
+                    weighted_shapes[j * n + m][c] = w * phi[m][c];
+                }
+            }
+        }
+        Ok(DeckBuffeting {
+            field,
+            weighted_shapes,
+            n_modes: n,
+            q_b: 0.5 * spec.air_density_kg_m3 * spec.mean_speed_m_s.powi(2) * spec.width_m,
+            spec: spec.clone(),
+        })
+    }
+
+    /// The deck points' field.
+    pub fn field(&self) -> &WindField {
+        &self.field
+    }
+
+    /// Add the generalised buffeting forces at time `t` to `out` (one per mode).
+    pub fn add_modal_force(&self, t: f64, out: &mut [f64]) {
+        let s = &self.spec;
+        let u_mean = s.mean_speed_m_s;
+        let [cd, cl, cm] = s.coefficients;
+        let [dcd, dcl, dcm] = s.slopes;
+        let n = self.n_modes;
+        for (j, &x) in self.field.x_m.iter().enumerate() {
+            let [u, w] = self.field.at(x, t);
+            let (ru, rw) = (u / u_mean, w / u_mean);
+            let drag = self.q_b * (2.0 * cd * ru + dcd * rw);
+            let lift = self.q_b * (2.0 * cl * ru + (dcl + cd) * rw);
+            let moment = self.q_b * s.width_m * (2.0 * cm * ru + dcm * rw);
+            for (o, p) in out
+                .iter_mut()
+                .zip(&self.weighted_shapes[j * n..(j + 1) * n])
+            {
+                *o += p[0] * drag - p[1] * lift + p[2] * moment;
+            }
+        }
+    }
+}
