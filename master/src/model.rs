@@ -220,6 +220,17 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
     let mut bridge = build_bridge(s)?;
     if let Some(w) = &s.wind {
         bridge.steady_modal_force = bridge.uniform_load(w.deck_load());
+        let d = w.deck();
+        if let (Some(table), true) = (&d.flutter, w.mean_speed_m_s > 0.0) {
+            tbi_dynamics::bridge::aeroelastic::apply(
+                &mut bridge,
+                table,
+                w.air_density_kg_m3,
+                w.mean_speed_m_s,
+                d.width_m,
+            )
+            .map_err(|e| InputError::field(&s.origin, "wind.deck.flutter", "", e))?;
+        }
     }
     if let Some((n, f)) = bridge
         .frequencies_hz

@@ -159,7 +159,7 @@ fn default_air_density() -> f64 {
 }
 
 /// Steady aerodynamic coefficients of a deck section, referred to its width.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DeckAero {
     /// Deck width B, m (> 0).
@@ -181,6 +181,10 @@ pub struct DeckAero {
     /// Slope C_M′ of the moment coefficient, per rad. Default 0.
     #[serde(default)]
     pub moment_slope: f64,
+    /// Flutter derivatives against the reduced velocity U/(fB): the self-excited forces,
+    /// mode by mode ([`tbi_dynamics::bridge::aeroelastic`]). Default none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flutter: Option<tbi_dynamics::bridge::aeroelastic::FlutterDerivatives>,
 }
 
 impl DeckAero {
@@ -196,6 +200,7 @@ impl DeckAero {
             drag_slope: 0.0,
             lift_slope: 0.0,
             moment_slope: 0.0,
+            flutter: None,
         }
     }
 }
@@ -203,7 +208,7 @@ impl DeckAero {
 impl Wind {
     /// The deck coefficients used (the given ones).
     pub fn deck(&self) -> DeckAero {
-        self.deck.expect("checked: a deck for a wind")
+        self.deck.clone().expect("checked: a deck for a wind")
     }
 
     /// The steady load per unit length `(q_y, q_z, m_x)` on the deck at the shear centre,
@@ -1471,7 +1476,7 @@ impl Check<'_> {
             (0.1, 10.0),
             "(kg/m³)",
         )?;
-        let deck = match (w.deck, bridge) {
+        let deck = match (w.deck.clone(), bridge) {
             (Some(d), _) => d,
             (None, Bridge::Suspension { .. }) => DeckAero::tsing_ma(),
             (None, other) => {
@@ -1497,6 +1502,10 @@ impl Check<'_> {
         ] {
             self.finite(name, v)?;
             self.within(name, v, (-20.0, 20.0), "(–)")?;
+        }
+        if let Some(t) = &deck.flutter {
+            t.validate()
+                .map_err(|(f, why)| self.err(&format!("wind.deck.flutter.{f}"), "", &why))?;
         }
         if !(2..=2000).contains(&w.deck_points) {
             return Err(self.err("wind.deck_points", w.deck_points, "must lie in 2..=2000"));

@@ -1,4 +1,5 @@
 //! The bridge as a modal model.
+pub mod aeroelastic;
 pub mod buffeting;
 pub mod modal;
 /// The modes file format (crate `tbi-modes`).
