@@ -1274,28 +1274,35 @@ impl Check<'_> {
         Ok(axles)
     }
 
-    /// The axles of `moving_force` / `sprung_mass` trains, each table converted and checked.
-    fn axles<A: serde::de::DeserializeOwned>(
-        &self,
-        t: &FileTrain,
-        check: impl Fn(usize, &A) -> Result<(), InputError>,
-    ) -> Result<Vec<A>, InputError> {
-        for (name, set) in [
+    /// Refuse the `[train]` keys that kind `t.kind` does not take (all but `allowed`), naming
+    /// the first one set; `hint` says what the kind does take.
+    fn only(&self, t: &FileTrain, allowed: &[&str], hint: &str) -> Result<(), InputError> {
+        let keys = [
+            ("axles", !t.axles.is_empty()),
             ("preset", t.preset.is_some()),
             ("vehicles", t.vehicles.is_some()),
             ("coach", t.coach.is_some()),
             ("name", t.name.is_some()),
             ("forces", t.forces.is_some()),
             ("spacing_m", t.spacing_m.is_some()),
-        ] {
-            if set {
-                return Err(self.err(
-                    &format!("train.{name}"),
-                    "(set)",
-                    &format!("does not apply to kind \"{}\"", t.kind),
-                ));
-            }
+        ];
+        match keys.iter().find(|(k, set)| *set && !allowed.contains(k)) {
+            Some((k, _)) => Err(self.err(
+                &format!("train.{k}"),
+                "(set)",
+                &format!("does not apply to kind \"{}\"{hint}", t.kind),
+            )),
+            None => Ok(()),
         }
+    }
+
+    /// The axles of `moving_force` / `sprung_mass` trains, each table converted and checked.
+    fn axles<A: serde::de::DeserializeOwned>(
+        &self,
+        t: &FileTrain,
+        check: impl Fn(usize, &A) -> Result<(), InputError>,
+    ) -> Result<Vec<A>, InputError> {
+        self.only(t, &["axles"], "")?;
         if t.axles.is_empty() {
             return Err(self.err(
                 "train.axles",
@@ -1344,26 +1351,11 @@ impl Check<'_> {
                 },
             )?)),
             "coach_27dof" => {
-                for (name, set) in [
-                    ("name", t.name.is_some()),
-                    ("forces", t.forces.is_some()),
-                    ("spacing_m", t.spacing_m.is_some()),
-                ] {
-                    if set {
-                        return Err(self.err(
-                            &format!("train.{name}"),
-                            "(set)",
-                            "does not apply to kind \"coach_27dof\"",
-                        ));
-                    }
-                }
-                if !t.axles.is_empty() {
-                    return Err(self.err(
-                        "train.axles",
-                        "(set)",
-                        "does not apply to kind \"coach_27dof\" (use preset, vehicles, coach)",
-                    ));
-                }
+                self.only(
+                    t,
+                    &["preset", "vehicles", "coach"],
+                    " (use preset, vehicles, coach)",
+                )?;
                 let mut params = match t.preset.as_deref().unwrap_or("xia2000") {
                     "xia2000" => CoachParams::xia2000(),
                     p => {
@@ -1396,22 +1388,7 @@ impl Check<'_> {
                 Ok(TrainSpec::Coaches { params, count })
             }
             "hslm_a" => {
-                for (name, set) in [
-                    ("axles", !t.axles.is_empty()),
-                    ("preset", t.preset.is_some()),
-                    ("vehicles", t.vehicles.is_some()),
-                    ("coach", t.coach.is_some()),
-                    ("forces", t.forces.is_some()),
-                    ("spacing_m", t.spacing_m.is_some()),
-                ] {
-                    if set {
-                        return Err(self.err(
-                            &format!("train.{name}"),
-                            "(set)",
-                            "does not apply to kind \"hslm_a\" (give name = \"A1\" … \"A10\")",
-                        ));
-                    }
-                }
+                self.only(t, &["name"], " (give name = \"A1\" … \"A10\")")?;
                 let name = t.name.as_deref().ok_or_else(|| {
                     self.err("train.name", "(missing)", "kind \"hslm_a\" needs name = \"A1\" … \"A10\"")
                 })?;
@@ -1421,21 +1398,7 @@ impl Check<'_> {
                 ))
             }
             "hslm_b" => {
-                for (name, set) in [
-                    ("axles", !t.axles.is_empty()),
-                    ("preset", t.preset.is_some()),
-                    ("vehicles", t.vehicles.is_some()),
-                    ("coach", t.coach.is_some()),
-                    ("name", t.name.is_some()),
-                ] {
-                    if set {
-                        return Err(self.err(
-                            &format!("train.{name}"),
-                            "(set)",
-                            "does not apply to kind \"hslm_b\" (give forces = N, spacing_m = d)",
-                        ));
-                    }
-                }
+                self.only(t, &["forces", "spacing_m"], " (give forces = N, spacing_m = d)")?;
                 let forces = t.forces.ok_or_else(|| {
                     self.err("train.forces", "(missing)", "kind \"hslm_b\" needs forces = N (EN 1991-2 §6.4.6.1.1, read for the span)")
                 })?;

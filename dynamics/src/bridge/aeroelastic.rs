@@ -150,29 +150,15 @@ impl FlutterDerivatives {
 /// The integrals `(I_vv, I_hh, I_vθ, I_θθ)` of each mode's shapes over the deck (composite
 /// Simpson over 4000 intervals).
 fn shape_integrals(bridge: &ModalBridge) -> Vec<[f64; 4]> {
-    let n = bridge.n_modes();
-    let m = 4000;
-    let h = bridge.length_m() / m as f64;
-    let mut out = vec![[0.0; 4]; n];
-    let mut phi = vec![[0.0; 3]; n];
-    for i in 0..=m {
-        let x = (bridge.x_start_m + i as f64 * h).min(bridge.x_end_m);
-        let w = if i == 0 || i == m {
-            1.0
-        } else if i % 2 == 1 {
-            4.0
-        } else {
-            2.0
-        } * h
-            / 3.0;
-        bridge.deck_shapes(x, &mut phi);
-        for (o, p) in out.iter_mut().zip(&phi) {
+    let mut out = vec![[0.0; 4]; bridge.n_modes()];
+    bridge.integrate_shapes(|w, phi| {
+        for (o, p) in out.iter_mut().zip(phi) {
             o[0] += w * p[1] * p[1];
             o[1] += w * p[0] * p[0];
             o[2] += w * p[1] * p[2];
             o[3] += w * p[2] * p[2];
         }
-    }
+    });
     out
 }
 

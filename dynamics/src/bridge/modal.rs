@@ -131,11 +131,21 @@ impl ModalBridge {
     /// the shear centre) uniform over the whole deck: composite Simpson's rule over 4000
     /// intervals of the interpolated shapes.
     pub fn uniform_load(&self, q: [f64; 3]) -> Vec<f64> {
-        let n = self.n_modes();
+        let mut out = vec![0.0; self.n_modes()];
+        self.integrate_shapes(|w, phi| {
+            for (o, p) in out.iter_mut().zip(phi) {
+                *o += w * (p[0] * q[0] + p[1] * q[1] + p[2] * q[2]);
+            }
+        });
+        out
+    }
+
+    /// Integrals over the deck of functions of the shapes: `f(weight, shapes at x)` at the
+    /// nodes of the composite Simpson rule over 4000 intervals.
+    pub fn integrate_shapes(&self, mut f: impl FnMut(f64, &[[f64; 3]])) {
         let m = 4000;
         let h = self.length_m() / m as f64;
-        let mut out = vec![0.0; n];
-        let mut phi = vec![[0.0; 3]; n];
+        let mut phi = vec![[0.0; 3]; self.n_modes()];
         for i in 0..=m {
             let x = (self.x_start_m + i as f64 * h).min(self.x_end_m);
             let w = if i == 0 || i == m {
@@ -147,11 +157,8 @@ impl ModalBridge {
             } * h
                 / 3.0;
             self.deck_shapes(x, &mut phi);
-            for (o, p) in out.iter_mut().zip(&phi) {
-                *o += w * (p[0] * q[0] + p[1] * q[1] + p[2] * q[2]);
-            }
+            f(w, &phi);
         }
-        out
     }
 
     /// Circular frequencies ωₙ, rad/s.
