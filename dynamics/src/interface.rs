@@ -24,6 +24,7 @@ use crate::solver::partitioned::WheelInput;
 use crate::train::{Speed, Train, TrainVehicle};
 use crate::vehicle::coach::CoachParams;
 use crate::vehicle::simple::{moving_force, sprung_mass, MovingForceAxle, SprungMassAxle};
+use crate::vehicle::LinearVehicle;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -402,8 +403,18 @@ impl TrainResources {
             let loads = w
                 .aero
                 .loads(self.speed_m_s.m_s(), w.mean_speed_m_s, w.air_density_kg_m3);
+            // vehicles sharing a model (the coaches of a train) share its windy model
+            let mut done: Vec<(*const LinearVehicle, Arc<LinearVehicle>)> = Vec::new();
             for v in &mut vehicles {
-                v.model = Arc::new(v.model.in_crosswind(&loads)?);
+                let key = Arc::as_ptr(&v.model);
+                v.model = match done.iter().find(|(k, _)| *k == key) {
+                    Some((_, m)) => m.clone(),
+                    None => {
+                        let m = Arc::new(v.model.in_crosswind(&loads)?);
+                        done.push((key, m.clone()));
+                        m
+                    }
+                };
             }
         }
         let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();

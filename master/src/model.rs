@@ -316,8 +316,8 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
                 points: w.deck_points,
                 duration_s: steps as f64 * s.run.dt_s,
             };
-            // generated once here so that a bad turbulence is refused before any step
-            tbi_dynamics::bridge::buffeting::DeckBuffeting::new(&bridge, &spec)
+            // refused before any step (each solver generates the field when it starts)
+            tbi_dynamics::bridge::buffeting::DeckBuffeting::check(&bridge, &spec)
                 .map_err(|e| InputError::field(&s.origin, "wind.turbulence", "", e))?;
             bridge.buffeting = Some(spec);
         }

@@ -121,14 +121,26 @@ class Result:
         )
 
 
+def _read_summary(out):
+    with open(Path(out) / "summary.json", encoding="utf-8") as f:
+        return json.load(f)
+
+
 def _read(out):
     import pandas as pd
 
-    out = Path(out)
-    with open(out / "summary.json", encoding="utf-8") as f:
-        summary = json.load(f)
-    history = pd.read_csv(out / "history.csv")
-    return summary, history
+    return _read_summary(out), pd.read_csv(Path(out) / "history.csv")
+
+
+def _in_temporary_folder(src, solver, read):
+    """Run into a temporary folder, return `read(folder)`, and remove the folder."""
+    tmp = tempfile.mkdtemp(prefix="tbi-run-")
+    try:
+        folder = os.path.join(tmp, "run")
+        _native.run(folder, solver=solver, **src)
+        return read(folder)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def run(scenario=None, solver=None, out=None, base_dir=None):
@@ -152,27 +164,13 @@ def run(scenario=None, solver=None, out=None, base_dir=None):
         _native.run(os.fspath(out), solver=solver, **src)
         summary, history = _read(out)
         return Result(summary, history, Path(out))
-    tmp = tempfile.mkdtemp(prefix="tbi-run-")
-    try:
-        folder = os.path.join(tmp, "run")
-        _native.run(folder, solver=solver, **src)
-        summary, history = _read(folder)
-        return Result(summary, history, None)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+    summary, history = _in_temporary_folder(src, solver, _read)
+    return Result(summary, history, None)
 
 
 def _summary(scenario, solver=None, base_dir=None):
     """The summary of a run in a temporary folder (a sweep's case: no history read)."""
-    src = _source(scenario, base_dir)
-    tmp = tempfile.mkdtemp(prefix="tbi-case-")
-    try:
-        folder = os.path.join(tmp, "run")
-        _native.run(folder, solver=solver, **src)
-        with open(os.path.join(folder, "summary.json"), encoding="utf-8") as f:
-            return json.load(f)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+    return _in_temporary_folder(_source(scenario, base_dir), solver, _read_summary)
 
 
 def export(scenario=None, out="."):

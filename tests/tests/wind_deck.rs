@@ -26,6 +26,14 @@ fn modal_static(modes: usize, u: f64, x: f64) -> (f64, [f64; 3]) {
     (y, s.wind.unwrap().deck_load())
 }
 
+/// The scenario of `text` (named `label`) run into a scratch folder: it and its history.
+fn run_text(text: &str, label: &str) -> (Scenario, tbi_tests::Table) {
+    let s = Scenario::from_toml(text, &format!("{label}.toml"), std::path::Path::new(".")).unwrap();
+    let out = tbi_tests::scratch(label).join("run");
+    tbi::run::run_scenario(&s, &out, false, &tbi::model::Limits::none()).unwrap();
+    (s, tbi_tests::Table::read(&out.join("history.csv")))
+}
+
 #[test]
 fn mean_wind_on_the_tsing_ma_deck_modal_against_direct_static() {
     let (u, x) = (25.0, 1141.0);
@@ -170,11 +178,7 @@ turbulence = {{ spectrum = "von-karman", intensity_u = 0.0, intensity_w = 0.1, l
 "#,
         mid = l / 2.0
     );
-    let s = Scenario::from_toml(&text, "buffeting.toml", std::path::Path::new(".")).unwrap();
-    let dir = tbi_tests::scratch("buffeting");
-    let out = dir.join("run");
-    tbi::run::run_scenario(&s, &out, false, &tbi::model::Limits::none()).unwrap();
-    let h = tbi_tests::Table::read(&out.join("history.csv"));
+    let (s, h) = run_text(&text, "buffeting");
     let t = h.column("time_s");
     let y: Vec<f64> = h
         .column("mid.vertical_displacement_m")
@@ -262,10 +266,7 @@ x_m = 15.0
 {wind}
 "#
         );
-        let s = Scenario::from_toml(&text, "decay.toml", std::path::Path::new(".")).unwrap();
-        let dir = tbi_tests::scratch("decay");
-        tbi::run::run_scenario(&s, &dir.join("run"), false, &tbi::model::Limits::none()).unwrap();
-        let h = tbi_tests::Table::read(&dir.join("run/history.csv"));
+        let (_, h) = run_text(&text, "decay");
         let t = h.column("time_s");
         let y = h.column("mid.vertical_displacement_m");
         // after the load has left (30 m at 100 km/h: 1.08 s) and a settling second

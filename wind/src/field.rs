@@ -170,36 +170,8 @@ impl WindField {
         x_m: &[f64],
         duration_s: f64,
     ) -> Result<WindField, WindError> {
-        turbulence.validate()?;
-        if !(mean_speed_m_s.is_finite() && mean_speed_m_s > 0.0) {
-            return Err(WindError::invalid(
-                "mean_speed_m_s",
-                mean_speed_m_s,
-                "must be positive for a turbulent wind",
-            ));
-        }
-        if !(duration_s.is_finite() && duration_s > 0.0) {
-            return Err(WindError::invalid(
-                "duration_s",
-                duration_s,
-                "must be positive",
-            ));
-        }
-        check_points(x_m)?;
+        let n = Self::check(turbulence, mean_speed_m_s, x_m, duration_s)?;
         let dt = turbulence.dt_s;
-        let n = ((duration_s / dt).ceil() as usize)
-            .max(16)
-            .next_power_of_two();
-        if n.saturating_mul(x_m.len()).saturating_mul(2) > MAX_SAMPLES {
-            return Err(WindError::Invalid {
-                field: "dt_s",
-                value: format!("{dt}"),
-                reason: format!(
-                    "{} points × {n} times exceed {MAX_SAMPLES} samples; raise dt_s or use fewer points",
-                    x_m.len()
-                ),
-            });
-        }
         let df = 1.0 / (n as f64 * dt);
         let bins = n / 2 - 1;
         let ifft = FftPlanner::<f64>::new().plan_fft_inverse(n);
@@ -247,6 +219,47 @@ impl WindField {
         })
     }
 
+    /// Everything [`Self::generate`] checks, without generating: the number of samples in
+    /// time it would generate.
+    pub fn check(
+        turbulence: &Turbulence,
+        mean_speed_m_s: f64,
+        x_m: &[f64],
+        duration_s: f64,
+    ) -> Result<usize, WindError> {
+        turbulence.validate()?;
+        if !(mean_speed_m_s.is_finite() && mean_speed_m_s > 0.0) {
+            return Err(WindError::invalid(
+                "mean_speed_m_s",
+                mean_speed_m_s,
+                "must be positive for a turbulent wind",
+            ));
+        }
+        if !(duration_s.is_finite() && duration_s > 0.0) {
+            return Err(WindError::invalid(
+                "duration_s",
+                duration_s,
+                "must be positive",
+            ));
+        }
+        check_points(x_m)?;
+        let dt = turbulence.dt_s;
+        let n = ((duration_s / dt).ceil() as usize)
+            .max(16)
+            .next_power_of_two();
+        if n.saturating_mul(x_m.len()).saturating_mul(2) > MAX_SAMPLES {
+            return Err(WindError::Invalid {
+                field: "dt_s",
+                value: format!("{dt}"),
+                reason: format!(
+                    "{} points × {n} times exceed {MAX_SAMPLES} samples; raise dt_s or use fewer points",
+                    x_m.len()
+                ),
+            });
+        }
+        Ok(n)
+    }
+
     /// Number of samples in time.
     pub fn n_times(&self) -> usize {
         self.u.first().map_or(0, Vec::len)
@@ -256,24 +269,10 @@ impl WindField {
     /// (the end points' values beyond them) and between the samples (periodic, or the end
     /// samples held beyond a record).
     pub fn at(&self, x: f64, t: f64) -> [f64; 2] {
-        let nt = self.n_times();
-        if nt == 0 {
+        if self.n_times() == 0 {
             return [0.0; 2];
         }
-        let s = (t - self.t0_s) / self.dt_s;
-        let (i0, i1, a) = if self.periodic {
-            let period = nt as f64;
-            let s = s.rem_euclid(period);
-            let i0 = (s.floor() as usize).min(nt - 1);
-            (i0, (i0 + 1) % nt, s - i0 as f64)
-        } else if s <= 0.0 {
-            (0, 0, 0.0)
-        } else if s >= (nt - 1) as f64 {
-            (nt - 1, nt - 1, 0.0)
-        } else {
-            let i0 = s.floor() as usize;
-            (i0, i0 + 1, s - i0 as f64)
-        };
+        let (i0, i1, a) = self.time_index(t);
         let p = self.x_m.partition_point(|&xi| xi <= x);
         let (j0, j1, b) = if p == 0 {
             (0, 0, 0.0)
@@ -289,6 +288,33 @@ impl WindField {
             at(j0) + b * (at(j1) - at(j0))
         };
         [f(&self.u), f(&self.w)]
+    }
+
+    /// The turbulence (u, w) at deck point `j` at the time of `index` ([`Self::time_index`]).
+    pub fn at_point(&self, j: usize, (i0, i1, a): (usize, usize, f64)) -> [f64; 2] {
+        let f = |v: &[Vec<f64>]| v[j][i0] + a * (v[j][i1] - v[j][i0]);
+        [f(&self.u), f(&self.w)]
+    }
+
+    /// The samples around time `t` and the weight of the later one, `(i0, i1, a)`: a value is
+    /// `v[i0] + a (v[i1] − v[i0])` (periodic, or the end samples held beyond a record). The
+    /// field must hold at least one sample.
+    pub fn time_index(&self, t: f64) -> (usize, usize, f64) {
+        let nt = self.n_times();
+        let s = (t - self.t0_s) / self.dt_s;
+        if self.periodic {
+            let period = nt as f64;
+            let s = s.rem_euclid(period);
+            let i0 = (s.floor() as usize).min(nt - 1);
+            (i0, (i0 + 1) % nt, s - i0 as f64)
+        } else if s <= 0.0 {
+            (0, 0, 0.0)
+        } else if s >= (nt - 1) as f64 {
+            (nt - 1, nt - 1, 0.0)
+        } else {
+            let i0 = s.floor() as usize;
+            (i0, i0 + 1, s - i0 as f64)
+        }
     }
 }
 

@@ -58,10 +58,9 @@ pub struct DeckBuffeting {
 impl DeckBuffeting {
     /// Generate the field at the deck points and tabulate the weighted shapes.
     pub fn new(bridge: &ModalBridge, spec: &BuffetingSpec) -> Result<DeckBuffeting, String> {
-        let p = spec.points.max(2);
+        let (x, dx) = deck_points(bridge, spec);
+        let p = x.len();
         let (a, b) = (bridge.x_start_m, bridge.x_end_m);
-        let dx = (b - a) / (p - 1) as f64;
-        let x: Vec<f64> = (0..p).map(|j| a + j as f64 * dx).collect();
         let field = WindField::generate(&spec.turbulence, spec.mean_speed_m_s, &x, spec.duration_s)
             .map_err(|e| format!("wind.turbulence: {e}"))?;
         let n = bridge.n_modes();
@@ -85,6 +84,14 @@ impl DeckBuffeting {
         })
     }
 
+    /// Check what [`Self::new`] would need, without generating the field.
+    pub fn check(bridge: &ModalBridge, spec: &BuffetingSpec) -> Result<(), String> {
+        let (x, _) = deck_points(bridge, spec);
+        WindField::check(&spec.turbulence, spec.mean_speed_m_s, &x, spec.duration_s)
+            .map(drop)
+            .map_err(|e| format!("wind.turbulence: {e}"))
+    }
+
     /// The deck points' field.
     pub fn field(&self) -> &WindField {
         &self.field
@@ -97,8 +104,9 @@ impl DeckBuffeting {
         let [cd, cl, cm] = s.coefficients;
         let [dcd, dcl, dcm] = s.slopes;
         let n = self.n_modes;
-        for (j, &x) in self.field.x_m.iter().enumerate() {
-            let [u, w] = self.field.at(x, t);
+        let when = self.field.time_index(t);
+        for j in 0..self.field.x_m.len() {
+            let [u, w] = self.field.at_point(j, when);
             let (ru, rw) = (u / u_mean, w / u_mean);
             let drag = self.q_b * (2.0 * cd * ru + dcd * rw);
             let lift = self.q_b * (2.0 * cl * ru + (dcl + cd) * rw);
@@ -111,4 +119,12 @@ impl DeckBuffeting {
             }
         }
     }
+}
+
+/// The deck points of a spec, equally spaced from deck start to end, and their spacing, m.
+fn deck_points(bridge: &ModalBridge, spec: &BuffetingSpec) -> (Vec<f64>, f64) {
+    let p = spec.points.max(2);
+    let (a, b) = (bridge.x_start_m, bridge.x_end_m);
+    let dx = (b - a) / (p - 1) as f64;
+    ((0..p).map(|j| a + j as f64 * dx).collect(), dx)
 }
