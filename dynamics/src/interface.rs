@@ -40,6 +40,44 @@ pub const BRIDGE_RESOURCE: &str = "bridge.json";
 pub const TRACK_RESOURCE: &str = "track.csv";
 /// Resource file of the train FMU (JSON of [`TrainResources`]).
 pub const TRAIN_RESOURCE: &str = "train.json";
+/// Model identifier (and shared-object stem) of the wind FMU.
+pub const WIND_ID: &str = "wind";
+/// Resource file of the wind FMU (JSON of [`WindResources`]).
+pub const WIND_RESOURCE: &str = "wind.json";
+
+/// The turbulence at a deck point or a car body, as the wind FMU gives it and the bridge
+/// FMU takes it (about the mean wind U, which both sides hold).
+pub const WIND_CHANNELS: [Channel; 2] = [
+    ch(
+        "u",
+        "m/s",
+        "along-wind turbulence u (towards +y, about the mean U)",
+    ),
+    ch("w", "m/s", "vertical turbulence w (upward)"),
+];
+
+/// The position of a car body's centre (the mean of its wheelsets' positions), from the
+/// train FMU to the wind FMU.
+pub const BODY_POSITION_CHANNELS: [Channel; 1] = [ch(
+    "x",
+    "m",
+    "position of the car body's centre along the track",
+)];
+
+/// Everything the wind FMU reads from its resources: the turbulence, generated from its seed
+/// at the deck points (the same field the monolithic solver generates).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WindResources {
+    /// Mean wind speed U at deck level, m/s (> 0).
+    pub mean_speed_m_s: f64,
+    pub turbulence: tbi_wind::Turbulence,
+    /// The deck points, m (strictly increasing).
+    pub points_m: Vec<f64>,
+    /// Duration the field covers, s (it repeats beyond).
+    pub duration_s: f64,
+    /// Number of vehicles whose car bodies it gives the wind at.
+    pub n_vehicles: usize,
+}
 
 /// One scalar channel of a block: its name (after the `.`), unit and description.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -389,8 +427,19 @@ pub struct Crosswind {
     pub mean_speed_m_s: f64,
     /// Air density ρ, kg/m³.
     pub air_density_kg_m3: f64,
-    /// The car bodies' coefficients.
+    /// The car bodies' coefficients (off the deck, and on it unless `on_deck` is given).
     pub aero: crate::vehicle::aero::VehicleAero,
+    /// The car bodies' coefficients on the deck (its shielding or exposure); None: `aero`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub on_deck: Option<crate::vehicle::aero::VehicleAero>,
+    /// The deck's extent `[start, end]`, m, where `on_deck` applies (None: all ground).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deck_m: Option<[f64; 2]>,
+    /// The wind is turbulent: the along-wind turbulence at each car body comes from the wind
+    /// field (in the monolithic solver) or the train FMU's inputs `veh[i].u` (from the wind
+    /// FMU).
+    #[serde(default)]
+    pub turbulent: bool,
 }
 
 impl TrainResources {
@@ -399,33 +448,53 @@ impl TrainResources {
     /// FMU.
     pub fn build(&self, start_time: f64) -> Result<Train, String> {
         let mut vehicles = self.spec.vehicles()?;
+        let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
+        let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
+        let speed_m_s = self.speed_m_s.m_s();
+        let mut train = Train {
+            vehicles: Vec::new(),
+            speed_m_s,
+            x0_m: self.x0_m - speed_m_s * start_time,
+            hunting,
+            wind: None,
+        };
         if let Some(w) = &self.crosswind {
-            let loads = w
-                .aero
-                .loads(self.speed_m_s.m_s(), w.mean_speed_m_s, w.air_density_kg_m3);
-            // vehicles sharing a model (the coaches of a train) share its windy model
-            let mut done: Vec<(*const LinearVehicle, Arc<LinearVehicle>)> = Vec::new();
-            for v in &mut vehicles {
-                let key = Arc::as_ptr(&v.model);
-                v.model = match done.iter().find(|(k, _)| *k == key) {
-                    Some((_, m)) => m.clone(),
+            use crate::vehicle::aero::{TrainWind, WindBody};
+            let mut wind = TrainWind {
+                mean_speed_m_s: w.mean_speed_m_s,
+                air_density_kg_m3: w.air_density_kg_m3,
+                speed_m_s,
+                ground: w.aero.clone(),
+                deck: w.on_deck.clone().unwrap_or_else(|| w.aero.clone()),
+                deck_m: w.deck_m,
+                bodies: Vec::new(),
+            };
+            train.vehicles = vehicles.clone();
+            // vehicles sharing a model and starting on the same kind of ground (the coaches
+            // of a train) share its windy model
+            let mut done: Vec<(*const LinearVehicle, bool, Arc<LinearVehicle>)> = Vec::new();
+            for (i, v) in vehicles.iter_mut().enumerate() {
+                let offset = train.centre_offset_m(i);
+                let x = train.x_at(offset, start_time);
+                let loads = wind.loads_at(x, 0.0);
+                let key = (Arc::as_ptr(&v.model), wind.on_deck(x));
+                wind.bodies
+                    .push(WindBody::of(&v.model).map(|b| (b, offset, loads)));
+                v.model = match done.iter().find(|(k, d, _)| (*k, *d) == key) {
+                    Some((_, _, m)) => m.clone(),
                     None => {
                         let m = Arc::new(v.model.in_crosswind(&loads)?);
-                        done.push((key, m.clone()));
+                        done.push((key.0, key.1, m.clone()));
                         m
                     }
                 };
             }
+            if wind.bodies.iter().any(Option::is_some) {
+                train.wind = Some(Arc::new(wind));
+            }
         }
-        let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
-        let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
-        let speed_m_s = self.speed_m_s.m_s();
-        Ok(Train {
-            vehicles,
-            speed_m_s,
-            x0_m: self.x0_m - speed_m_s * start_time,
-            hunting,
-        })
+        train.vehicles = vehicles;
+        Ok(train)
     }
 }
 

@@ -70,6 +70,9 @@ pub struct Train {
     pub x0_m: f64,
     /// Wheel hunting of every wheelset.
     pub hunting: tbi_track::WheelHunting,
+    /// The wind on the car bodies beyond their static loads (None: still air, or a steady
+    /// wind whose loads the static equilibrium holds throughout).
+    pub wind: Option<std::sync::Arc<crate::vehicle::aero::TrainWind>>,
 }
 
 /// Where a train wheelset lives.
@@ -114,5 +117,29 @@ impl Train {
     #[inline]
     pub fn x_at(&self, offset_m: f64, t: f64) -> f64 {
         self.x0_m + self.speed_m_s * t - offset_m
+    }
+
+    /// Distance of vehicle `i`'s centre (the mean of its wheelsets) behind the first axle, m.
+    pub fn centre_offset_m(&self, i: usize) -> f64 {
+        let tv = &self.vehicles[i];
+        let n = tv.model.wheelsets.len().max(1) as f64;
+        tv.offset_m + tv.model.wheelsets.iter().map(|w| w.offset_m).sum::<f64>() / n
+    }
+
+    /// Add `scale` times the wind force on vehicle `i` beyond its static loads at time `t`
+    /// with the along-wind turbulence `u` at its centre ([`crate::vehicle::aero::TrainWind`])
+    /// to `f`.
+    pub fn add_wind_force(
+        &self,
+        i: usize,
+        t: f64,
+        u: f64,
+        scale: f64,
+        f: &mut nalgebra::DVector<f64>,
+    ) {
+        if let Some(w) = &self.wind {
+            let x = self.x_at(self.centre_offset_m(i), t);
+            w.add_force(i, x, u, scale, f);
+        }
     }
 }

@@ -7,9 +7,10 @@
 //! | `ws[i]` | input | [`WHEEL_CHANNELS`] (position, speed, force of wheelset i on the rail) | from 0 |
 //! | `ws[i]` | output | [`RAIL_CHANNELS`] (rail motion under wheelset i, deck plus irregularity) | after the inputs |
 //! | `probe[k]` | output | [`PROBE_CHANNELS`] (deck response at probe k) | after the rail motion |
+//! | `deck[j]` | input | [`WIND_CHANNELS`] (turbulence at deck point j, from the wind FMU; only with `[wind] turbulence`) | after the probes |
 
 use tbi_dynamics::interface::{
-    Block, Blocks, BridgeResources, Channel, Var, RAIL_CHANNELS, WHEEL_CHANNELS,
+    Block, Blocks, BridgeResources, Channel, Var, RAIL_CHANNELS, WHEEL_CHANNELS, WIND_CHANNELS,
 };
 use tbi_dynamics::solver::partitioned::ProbeValues;
 
@@ -70,6 +71,8 @@ pub fn probe_values(c: &[f64]) -> ProbeValues {
 pub enum BridgeVar {
     /// Channel `k` of [`WHEEL_CHANNELS`] of wheelset `w` (0-based), an input.
     Wheel { w: usize, k: usize },
+    /// Channel `k` of [`WIND_CHANNELS`] at deck point `j` (0-based), an input.
+    Wind { j: usize, k: usize },
     /// An output, by its slot in the output buffer.
     Output(usize),
 }
@@ -80,26 +83,35 @@ pub struct BridgeLayout {
     pub wheel_in: Block,
     pub rail_out: Block,
     pub probe_out: Block,
+    pub wind_in: Block,
     n_outputs: usize,
 }
 
 impl BridgeLayout {
     pub fn new(n_wheelsets: usize, n_probes: usize) -> BridgeLayout {
+        Self::with_wind(n_wheelsets, n_probes, 0)
+    }
+
+    /// With `n_points` deck points taking the turbulence as inputs.
+    pub fn with_wind(n_wheelsets: usize, n_probes: usize, n_points: usize) -> BridgeLayout {
         let mut b = Blocks::default();
         let wheel_in = b.input("ws", &WHEEL_CHANNELS, n_wheelsets);
         let rail_out = b.output("ws", &RAIL_CHANNELS, n_wheelsets);
         let probe_out = b.output("probe", &PROBE_CHANNELS, n_probes);
+        let wind_in = b.input("deck", &WIND_CHANNELS, n_points);
         BridgeLayout {
             wheel_in,
             rail_out,
             probe_out,
+            wind_in,
             n_outputs: b.n_slots(),
         }
     }
 
     /// The layout of the FMU with these resources.
     pub fn of(res: &BridgeResources) -> BridgeLayout {
-        BridgeLayout::new(res.n_wheelsets, res.probes.len())
+        let points = res.modal.buffeting.as_ref().map_or(0, |b| b.points.max(2));
+        BridgeLayout::with_wind(res.n_wheelsets, res.probes.len(), points)
     }
 
     pub fn n_wheelsets(&self) -> usize {
@@ -114,6 +126,9 @@ impl BridgeLayout {
     pub fn decode(&self, vr: u32) -> Option<BridgeVar> {
         if let Some((w, k)) = self.wheel_in.decode(vr) {
             return Some(BridgeVar::Wheel { w, k });
+        }
+        if let Some((j, k)) = self.wind_in.decode(vr) {
+            return Some(BridgeVar::Wind { j, k });
         }
         [self.rail_out, self.probe_out]
             .iter()
@@ -146,6 +161,13 @@ impl BridgeLayout {
             },
             |_, _| None,
         ));
+        if let Some(spec) = &res.modal.buffeting {
+            let (x, _) = spec.points_on(res.modal.x_start_m, res.modal.x_end_m);
+            v.extend(self.wind_in.variables(
+                |j, c| format!("{} at deck point {} (x = {} m)", c.description, j + 1, x[j]),
+                |_, _| Some(0.0),
+            ));
+        }
         v
     }
 }
@@ -156,16 +178,20 @@ mod tests {
 
     #[test]
     fn every_variable_decodes_to_itself_and_outputs_fill_the_buffer() {
-        let l = BridgeLayout::new(7, 3);
+        let l = BridgeLayout::with_wind(7, 3, 4);
         assert_eq!(l.n_outputs(), 9 * 7 + 5 * 3);
         let mut slots = Vec::new();
-        for (i, b) in [l.wheel_in, l.rail_out, l.probe_out].iter().enumerate() {
+        for (i, b) in [l.wheel_in, l.rail_out, l.probe_out, l.wind_in]
+            .iter()
+            .enumerate()
+        {
             for n in 0..b.count {
                 for k in 0..b.width() {
                     match l.decode(b.vr(n, k)) {
                         Some(BridgeVar::Wheel { w, k: kk }) => {
                             assert_eq!((i, w, kk), (0, n, k))
                         }
+                        Some(BridgeVar::Wind { j, k: kk }) => assert_eq!((i, j, kk), (3, n, k)),
                         Some(BridgeVar::Output(s)) => slots.push(s),
                         None => panic!("{} does not decode", b.name(n, k)),
                     }
@@ -173,6 +199,6 @@ mod tests {
             }
         }
         assert_eq!(slots, (0..l.n_outputs()).collect::<Vec<_>>());
-        assert_eq!(l.decode((14 * 7 + 5 * 3) as u32), None);
+        assert_eq!(l.decode((14 * 7 + 5 * 3 + 2 * 4) as u32), None);
     }
 }

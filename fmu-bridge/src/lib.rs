@@ -2,7 +2,9 @@
 //! plumbing is `fmi-export`'s, the equations are `tbi_dynamics::solver::partitioned::BridgeSide`.
 //!
 //! Resources: `bridge.json` ([`BridgeResources`]: modal bridge, probes, wheelset count) and,
-//! when the track is not smooth, `track.csv` (irregularity record). Variables: [`layout`]
+//! when the track is not smooth, `track.csv` (irregularity record). With `[wind]
+//! turbulence` the deck takes the turbulence at its points as inputs (from the wind FMU) and
+//! applies the buffeting forces itself. Variables: [`layout`]
 //! (the one description of them). Each `fmi2DoStep(t, h)` is one Newmark step of size `h`
 //! with the wheelset positions, speeds and forces at `t + h`. The C symbols are exported by
 //! the `bridge` shared object of `fmu-bridge/so`.
@@ -73,6 +75,9 @@ struct Saved {
     state: ModalState,
     inputs: Vec<WheelInput>,
     initialized: bool,
+    /// The turbulence inputs at the deck points.
+    #[serde(default)]
+    deck_wind: Option<Vec<[f64; 2]>>,
 }
 
 impl BridgeFmu {
@@ -91,7 +96,8 @@ impl BridgeFmu {
         let l = m.layout.clone();
         let n = l.n_wheelsets().max(1) as f64;
         let (a, b) = (res.modal.x_start_m, res.modal.x_end_m);
-        let knowns = l.wheel_in.all_vrs();
+        let mut knowns = l.wheel_in.all_vrs();
+        knowns.extend(l.wind_in.all_vrs());
         let mut outputs = l.rail_out.all_vrs();
         outputs.extend(l.probe_out.all_vrs());
         let set = |m: &mut BridgeFmu, phase| -> Result<(), String> {
@@ -104,6 +110,11 @@ impl BridgeFmu {
                 {
                     m.set_real(l.wheel_in.vr(w, k), *v, phase)?;
                 }
+            }
+            for j in 0..l.wind_in.count {
+                let s = 1.0 + 0.05 * j as f64;
+                m.set_real(l.wind_in.vr(j, 0), 1.3 * s, phase)?;
+                m.set_real(l.wind_in.vr(j, 1), -0.4 * s, phase)?;
             }
             Ok(())
         };
@@ -124,7 +135,9 @@ impl BridgeFmu {
     /// Build from resource data (used by `instantiate` and by tests).
     pub fn from_parts(res: BridgeResources, track: Arc<dyn RailProfile>, guid: String) -> Self {
         let layout = BridgeLayout::of(&res);
-        let side = BridgeSide::new(Arc::new(res.modal.clone()), track);
+        let mut side = BridgeSide::new(Arc::new(res.modal.clone()), track);
+        // the turbulence comes from the wind FMU
+        side.take_wind_from_inputs();
         BridgeFmu {
             inputs: (0..layout.n_wheelsets())
                 .map(|_| WheelInput {
@@ -201,18 +214,29 @@ impl FmuModel for BridgeFmu {
     }
 
     fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
-        let Some(BridgeVar::Wheel { w, k }) = self.layout.decode(vr) else {
-            return Err(format!(
-                "value reference {vr} is not an input of the bridge FMU"
-            ));
+        let l = &self.layout;
+        let name = match l.decode(vr) {
+            Some(BridgeVar::Wheel { w, k }) => l.wheel_in.name(w, k),
+            Some(BridgeVar::Wind { j, k }) => l.wind_in.name(j, k),
+            _ => {
+                return Err(format!(
+                    "value reference {vr} is not an input of the bridge FMU"
+                ))
+            }
         };
         if !value.is_finite() {
-            return Err(format!(
-                "input {} = {value} is not finite",
-                self.layout.wheel_in.name(w, k)
-            ));
+            return Err(format!("input {name} = {value} is not finite"));
         }
-        *wheel_channel(&mut self.inputs[w], k) = value;
+        match l.decode(vr) {
+            Some(BridgeVar::Wheel { w, k }) => *wheel_channel(&mut self.inputs[w], k) = value,
+            Some(BridgeVar::Wind { j, k }) => {
+                self.side
+                    .deck_wind
+                    .as_mut()
+                    .expect("a wind input has its deck point")[j][k] = value
+            }
+            _ => unreachable!("decoded above"),
+        }
         self.dirty = true;
         Ok(())
     }
@@ -220,6 +244,11 @@ impl FmuModel for BridgeFmu {
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
         match self.layout.decode(vr) {
             Some(BridgeVar::Wheel { w, k }) => Ok(*wheel_channel(&mut self.inputs[w], k)),
+            Some(BridgeVar::Wind { j, k }) => Ok(self
+                .side
+                .deck_wind
+                .as_ref()
+                .expect("a wind input has its deck point")[j][k]),
             Some(BridgeVar::Output(slot)) => {
                 self.refresh();
                 Ok(self.outputs[slot])
@@ -252,17 +281,22 @@ impl FmuModel for BridgeFmu {
             state: self.side.state.clone(),
             inputs: self.inputs.clone(),
             initialized: self.initialized,
+            deck_wind: self.side.deck_wind.clone(),
         })
         .expect("state serialises")
     }
 
     fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
         let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("bridge state: {e}"))?;
-        if s.inputs.len() != self.res.n_wheelsets || s.state.q.len() != self.res.modal.n_modes() {
+        if s.inputs.len() != self.res.n_wheelsets
+            || s.state.q.len() != self.res.modal.n_modes()
+            || s.deck_wind.as_ref().map(Vec::len) != self.side.deck_wind.as_ref().map(Vec::len)
+        {
             return Err("bridge state does not match this FMU's size".into());
         }
         self.side.state = s.state;
         self.inputs = s.inputs;
+        self.side.deck_wind = s.deck_wind;
         self.initialized = s.initialized;
         self.dirty = true;
         Ok(())

@@ -10,9 +10,13 @@
 //! | parameters | parameter | [`parameters`]: `speed`, `x0`, `hunting.*`, `coach.*` | from [`PARAM_BASE`] |
 
 use tbi_dynamics::interface::{
-    Block, Blocks, Causality, Channel, TrainResources, TrainSpec, Var, RAIL_CHANNELS,
-    WHEEL_CHANNELS,
+    Block, Blocks, Causality, Channel, TrainResources, TrainSpec, Var, BODY_POSITION_CHANNELS,
+    RAIL_CHANNELS, WHEEL_CHANNELS, WIND_CHANNELS,
 };
+
+/// The along-wind turbulence at a car body, an input from the wind FMU (the vertical one is
+/// not applied to the bodies).
+pub const BODY_WIND_CHANNELS: [Channel; 1] = [WIND_CHANNELS[0]];
 
 /// `<fmiModelDescription description>` of the train FMU.
 pub const DESCRIPTION: &str = "Train of linear vehicles (moving forces, sprung masses or 27-DOF coaches): rail motion in, wheel forces out";
@@ -150,6 +154,8 @@ fn unit_of(field: &str) -> &'static str {
 pub enum TrainVar {
     /// Channel `k` of [`RAIL_CHANNELS`] of wheelset `w` (0-based), an input.
     Rail { w: usize, k: usize },
+    /// The along-wind turbulence at car body `i` (0-based), an input.
+    Wind(usize),
     /// An output, by its slot in the output buffer.
     Output(usize),
     /// The j-th entry of [`parameters`] (not range-checked here).
@@ -162,26 +168,41 @@ pub struct TrainLayout {
     pub rail_in: Block,
     pub wheel_out: Block,
     pub vehicle_out: Block,
+    /// Car-body positions (to the wind FMU) and the turbulence there (from it); only in a
+    /// turbulent wind.
+    pub body_x_out: Block,
+    pub wind_in: Block,
     n_outputs: usize,
 }
 
 impl TrainLayout {
     pub fn new(n_wheelsets: usize, n_vehicles: usize) -> TrainLayout {
+        Self::with_wind(n_wheelsets, n_vehicles, false)
+    }
+
+    /// With `turbulent`, the car bodies exchange positions and turbulence with a wind FMU.
+    pub fn with_wind(n_wheelsets: usize, n_vehicles: usize, turbulent: bool) -> TrainLayout {
         let mut b = Blocks::default();
         let rail_in = b.input("ws", &RAIL_CHANNELS, n_wheelsets);
         let wheel_out = b.output("ws", &WHEEL_OUT, n_wheelsets);
         let vehicle_out = b.output("veh", &VEHICLE_CHANNELS, n_vehicles);
+        let n_bodies = if turbulent { n_vehicles } else { 0 };
+        let body_x_out = b.output("veh", &BODY_POSITION_CHANNELS, n_bodies);
+        let wind_in = b.input("veh", &BODY_WIND_CHANNELS, n_bodies);
         TrainLayout {
             rail_in,
             wheel_out,
             vehicle_out,
+            body_x_out,
+            wind_in,
             n_outputs: b.n_slots(),
         }
     }
 
     /// The layout of the FMU with these resources.
     pub fn of(res: &TrainResources) -> TrainLayout {
-        TrainLayout::new(res.spec.n_wheelsets(), res.spec.n_vehicles())
+        let turbulent = res.crosswind.as_ref().is_some_and(|w| w.turbulent);
+        TrainLayout::with_wind(res.spec.n_wheelsets(), res.spec.n_vehicles(), turbulent)
     }
 
     pub fn n_wheelsets(&self) -> usize {
@@ -204,7 +225,10 @@ impl TrainLayout {
         if let Some((w, k)) = self.rail_in.decode(vr) {
             return Some(TrainVar::Rail { w, k });
         }
-        [self.wheel_out, self.vehicle_out]
+        if let Some((i, _)) = self.wind_in.decode(vr) {
+            return Some(TrainVar::Wind(i));
+        }
+        [self.wheel_out, self.vehicle_out, self.body_x_out]
             .iter()
             .find_map(|b| b.decode(vr).map(|(i, k)| TrainVar::Output(b.slot(i, k))))
     }
@@ -229,6 +253,14 @@ impl TrainLayout {
             |i, c| format!("{}, vehicle {} (0 if not modelled)", c.description, i + 1),
             |_, _| None,
         ));
+        v.extend(self.body_x_out.variables(
+            |i, c| format!("{}, vehicle {}", c.description, i + 1),
+            |_, _| None,
+        ));
+        v.extend(self.wind_in.variables(
+            |i, c| format!("{} at the car body of vehicle {}", c.description, i + 1),
+            |_, _| Some(0.0),
+        ));
         for (j, p) in parameters(res).into_iter().enumerate() {
             v.push(Var {
                 vr: PARAM_BASE + j as u32,
@@ -249,14 +281,22 @@ mod tests {
 
     #[test]
     fn every_variable_decodes_to_itself_and_outputs_fill_the_buffer() {
-        let l = TrainLayout::new(7, 2);
-        assert_eq!(l.n_outputs(), 9 * 7 + 2 * 2);
+        let l = TrainLayout::with_wind(7, 2, true);
+        assert_eq!(l.n_outputs(), 9 * 7 + 2 * 2 + 2);
         let mut slots = Vec::new();
-        for (i, b) in [l.rail_in, l.wheel_out, l.vehicle_out].iter().enumerate() {
+        let blocks = [
+            l.rail_in,
+            l.wheel_out,
+            l.vehicle_out,
+            l.body_x_out,
+            l.wind_in,
+        ];
+        for (i, b) in blocks.iter().enumerate() {
             for n in 0..b.count {
                 for k in 0..b.width() {
                     match l.decode(b.vr(n, k)) {
                         Some(TrainVar::Rail { w, k: kk }) => assert_eq!((i, w, kk), (0, n, k)),
+                        Some(TrainVar::Wind(j)) => assert_eq!((i, j), (4, n)),
                         Some(TrainVar::Output(s)) => slots.push(s),
                         other => panic!("{} decodes to {other:?}", b.name(n, k)),
                     }
@@ -264,7 +304,9 @@ mod tests {
             }
         }
         assert_eq!(slots, (0..l.n_outputs()).collect::<Vec<_>>());
-        assert_eq!(l.decode((18 * 7 + 2 * 2) as u32), None);
+        assert_eq!(l.decode((18 * 7 + 2 * 2 + 2 + 2) as u32), None);
+        assert_eq!(l.wind_in.name(1, 0), "veh[2].u");
+        assert_eq!(TrainLayout::new(7, 2).n_outputs(), 9 * 7 + 2 * 2);
         assert_eq!(l.decode(PARAM_BASE + 4), Some(TrainVar::Parameter(4)));
         assert_eq!(WHEEL_OUT[5].name, "P_left");
     }

@@ -39,6 +39,8 @@ pub struct TrainFmu {
     start_time: f64,
     /// Rail motion inputs (u, u̇, ü) per wheelset.
     rails: Vec<[Vector3<f64>; 3]>,
+    /// Along-wind turbulence inputs per car body (a turbulent wind), m/s.
+    wind: Vec<f64>,
     side: Option<TrainSide>,
     /// Built from the current parameters but not yet initialised for stepping.
     initialized: bool,
@@ -55,6 +57,7 @@ impl Clone for TrainFmu {
             layout: self.layout.clone(),
             start_time: self.start_time,
             rails: self.rails.clone(),
+            wind: self.wind.clone(),
             side: self.side.clone(),
             initialized: self.initialized,
             outputs: self.outputs.clone(),
@@ -70,6 +73,7 @@ impl Clone for TrainFmu {
         self.layout.clone_from(&source.layout);
         self.start_time = source.start_time;
         self.rails.clone_from(&source.rails);
+        self.wind.clone_from(&source.wind);
         self.side.clone_from(&source.side);
         self.initialized = source.initialized;
         self.outputs.clone_from(&source.outputs);
@@ -86,6 +90,9 @@ struct Saved {
     t: f64,
     states: Option<Vec<VehicleState>>,
     side_rails: Option<Vec<[Vector3<f64>; 3]>>,
+    /// The turbulence inputs per car body.
+    #[serde(default)]
+    wind: Vec<f64>,
 }
 
 impl TrainFmu {
@@ -111,10 +118,16 @@ impl TrainFmu {
             .collect();
         let mut outputs = l.wheel_out.all_vrs();
         outputs.extend(l.vehicle_out.all_vrs());
+        outputs.extend(l.body_x_out.all_vrs());
+        let mut knowns = rails.clone();
+        knowns.extend(l.wind_in.all_vrs());
         let set = |m: &mut TrainFmu, phase| -> Result<(), String> {
             for (i, &vr) in rails.iter().enumerate() {
                 let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
                 m.set_real(vr, sign * 1e-3 * (1.0 + 0.013 * i as f64), phase)?;
+            }
+            for i in 0..l.wind_in.count {
+                m.set_real(l.wind_in.vr(i, 0), 2.0 + 0.1 * i as f64, phase)?;
             }
             Ok(())
         };
@@ -133,7 +146,8 @@ impl TrainFmu {
         if m.get_real(amplitude)? == 0.0 {
             m.set_real(amplitude, 1e-3, Phase::Initialization)?;
         }
-        let kinematic = l.wheel_out.vrs(&[wheel::X, wheel::VX]);
+        let mut kinematic = l.wheel_out.vrs(&[wheel::X, wheel::VX]);
+        kinematic.extend(l.body_x_out.all_vrs());
         let probed = probe(&mut m, &params, &kinematic, Phase::Initialization, delta)?;
         let vehicle_of: Vec<usize> = res
             .build(0.0)?
@@ -147,6 +161,9 @@ impl TrainFmu {
                 .flat_map(|w| (0..l.rail_in.width()).map(move |k| (w, k)))
                 .map(|(w, k)| l.rail_in.vr(w, k))
                 .collect();
+            if vehicle < l.wind_in.count {
+                d.push(l.wind_in.vr(vehicle, 0));
+            }
             d.extend(&params);
             d
         };
@@ -168,7 +185,7 @@ impl TrainFmu {
         m.exit_initialization()?;
         m.do_step(0.0, 1e-3)?;
         set(&mut m, Phase::Stepping)?;
-        let stepping = probe(&mut m, &rails, &outputs, Phase::Stepping, delta)?;
+        let stepping = probe(&mut m, &knowns, &outputs, Phase::Stepping, delta)?;
         Ok(Declared {
             outputs: outputs.iter().copied().zip(stepping).collect(),
             initial,
@@ -184,6 +201,7 @@ impl TrainFmu {
             guid,
             start_time: 0.0,
             rails: vec![[Vector3::zeros(); 3]; layout.n_wheelsets()],
+            wind: vec![0.0; layout.wind_in.count],
             side: None,
             initialized: false,
             outputs: vec![0.0; layout.n_outputs()],
@@ -203,6 +221,7 @@ impl TrainFmu {
         }
         if !self.initialized {
             let mut side = self.build_side()?;
+            self.pass_wind(&mut side);
             side.initialize(self.start_time, &self.rails);
             self.side = Some(side);
         }
@@ -241,8 +260,19 @@ impl TrainFmu {
                 acceleration(tv.model.body.vertical),
             ]);
         }
+        for i in 0..l.body_x_out.count {
+            self.outputs[l.body_x_out.slot(i, 0)] =
+                side.train.x_at(side.train.centre_offset_m(i), t);
+        }
         self.dirty = false;
         Ok(())
+    }
+
+    /// The turbulence inputs into the side (the wind at the end of the coming step).
+    fn pass_wind(&self, side: &mut TrainSide) {
+        if !self.wind.is_empty() {
+            side.body_wind.copy_from_slice(&self.wind);
+        }
     }
 
     fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), String> {
@@ -313,6 +343,7 @@ impl FmuModel for TrainFmu {
 
     fn exit_initialization(&mut self) -> Result<(), String> {
         let mut side = self.build_side()?;
+        self.pass_wind(&mut side);
         side.initialize(self.start_time, &self.rails);
         self.side = Some(side);
         self.initialized = true;
@@ -326,6 +357,7 @@ impl FmuModel for TrainFmu {
         }
         match self.layout.decode(vr) {
             Some(TrainVar::Rail { w, k }) => *rail_channel(&mut self.rails[w], k) = value,
+            Some(TrainVar::Wind(i)) => self.wind[i] = value,
             Some(TrainVar::Parameter(j)) => {
                 if phase == Phase::Stepping {
                     return Err(format!(
@@ -348,6 +380,7 @@ impl FmuModel for TrainFmu {
         let unknown = || format!("unknown value reference {vr}");
         match self.layout.decode(vr).ok_or_else(unknown)? {
             TrainVar::Rail { w, k } => Ok(*rail_channel(&mut self.rails[w], k)),
+            TrainVar::Wind(i) => Ok(self.wind[i]),
             TrainVar::Parameter(j) => parameters(&self.res)
                 .get(j)
                 .map(|p| p.value)
@@ -360,8 +393,11 @@ impl FmuModel for TrainFmu {
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
-        let side = self.side.as_mut().ok_or("not initialised")?;
+        let mut side = self.side.take().ok_or("not initialised")?;
+        self.pass_wind(&mut side);
         side.step(h, &self.rails);
+        self.side = Some(side);
+        let side = self.side.as_ref().expect("put back above");
         if !side
             .states
             .iter()
@@ -387,18 +423,20 @@ impl FmuModel for TrainFmu {
             t: self.side.as_ref().map(|s| s.t).unwrap_or(self.start_time),
             states: self.side.as_ref().map(|s| s.states.clone()),
             side_rails: self.side.as_ref().map(|s| s.rails.clone()),
+            wind: self.wind.clone(),
         })
         .expect("state serialises")
     }
 
     fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
         let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("train state: {e}"))?;
-        if s.rails.len() != self.layout.n_wheelsets() {
+        if s.rails.len() != self.layout.n_wheelsets() || s.wind.len() != self.wind.len() {
             return Err("train state does not match this FMU's size".into());
         }
         self.res = Arc::new(s.res);
         self.start_time = s.start_time;
         self.rails = s.rails;
+        self.wind = s.wind;
         self.initialized = s.initialized;
         self.side = match (s.states, s.side_rails) {
             (Some(states), Some(rails)) => {

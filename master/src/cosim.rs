@@ -148,9 +148,10 @@ pub fn run_cosim<W: std::io::Write>(
         let mut pv = vec![0.0; probe_vrs.len()];
         let mut fv = vec![0.0; force_vrs.len()];
         let mut vv = vec![0.0; veh_vrs.len()];
-        sys.participants[0].get_real(&probe_vrs, &mut pv)?;
-        sys.participants[1].get_real(&force_vrs, &mut fv)?;
-        sys.participants[1].get_real(&veh_vrs, &mut vv)?;
+        use crate::export::Side;
+        sys.participants[Side::Bridge as usize].get_real(&probe_vrs, &mut pv)?;
+        sys.participants[Side::Train as usize].get_real(&force_vrs, &mut fv)?;
+        sys.participants[Side::Train as usize].get_real(&veh_vrs, &mut vv)?;
         Ok(Sample {
             t,
             probes: pv.chunks(bl.probe_out.width()).map(probe_values).collect(),

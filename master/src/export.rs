@@ -1,11 +1,11 @@
-//! `tbi export`: package a scenario's bridge and train as FMI 2.0 Co-Simulation FMUs and an
-//! SSP 1.0 system (`system.ssp`) that wires them.
+//! `tbi export`: package a scenario's bridge and train (and, in a turbulent wind, the wind)
+//! as FMI 2.0 Co-Simulation FMUs and an SSP 1.0 system (`system.ssp`) that wires them.
 //!
-//! The FMUs' binaries are the `cdylib`s `libbridge.so` and `libtrain.so` built with the
+//! The FMUs' binaries are the `cdylib`s `libbridge.so`, `libtrain.so` and `libwind.so` built with the
 //! workspace (`cargo build --release`); they are looked up next to the `tbi` executable (or
 //! in `$TBI_FMU_LIB_DIR`). The scenario's data travel in `resources/`: the modal bridge,
 //! probes and wheelset count (`bridge.json`), the irregularity record (`track.csv`) and the
-//! train (`train.json`). GUIDs are derived from the build identifier and those bytes, so a
+//! train (`train.json`), the turbulence (`wind.json`). GUIDs are derived from the build identifier and those bytes, so a
 //! description always matches its resources.
 
 use crate::coupling::CouplingConfig;
@@ -14,6 +14,7 @@ use crate::package::write_fmu;
 use fmi_export::dependencies::Declared;
 use fmu_bridge::layout::BridgeLayout;
 use fmu_train::layout::TrainLayout;
+use fmu_wind::layout::WindLayout;
 use model_description::builder::{ModelDescriptionBuilder, RealBuilder};
 use model_description::{
     Causality as MdCausality, DefaultExperiment, DependencyKind, Initial, ModelDescription,
@@ -22,8 +23,8 @@ use model_description::{
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use tbi_dynamics::interface::{
-    BridgeResources, Causality, ProbeSpec, TrainResources, Var, BRIDGE_ID, BRIDGE_RESOURCE,
-    BUILD_ID, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE,
+    BridgeResources, Causality, ProbeSpec, TrainResources, Var, WindResources, BRIDGE_ID,
+    BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WIND_ID, WIND_RESOURCE,
 };
 
 /// Command-line arguments of `tbi export`.
@@ -31,7 +32,7 @@ use tbi_dynamics::interface::{
 pub struct ExportArgs {
     /// Scenario file (TOML). Default: the embedded Tsing Ma case.
     pub scenario: Option<PathBuf>,
-    /// Output folder for bridge.fmu, train.fmu and system.ssp.
+    /// Output folder for bridge.fmu, train.fmu (wind.fmu) and system.ssp.
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -48,6 +49,8 @@ pub struct Exported {
     pub train_resources: TrainResources,
     pub bridge_layout: BridgeLayout,
     pub train_layout: TrainLayout,
+    /// The wind FMU, its resources and layout, in a turbulent wind.
+    pub wind: Option<(PathBuf, WindResources, WindLayout)>,
 }
 
 pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -99,7 +102,10 @@ pub fn check_instantiates(fmu: &Path) -> Result<(), String> {
         .map_err(|e| e.to_string())
 }
 
-/// Folders searched for `libbridge.so` and `libtrain.so` before the others (the Python
+/// The FMUs' shared objects.
+pub const LIBRARIES: [&str; 3] = ["libbridge.so", "libtrain.so", "libwind.so"];
+
+/// Folders searched for the FMU libraries before the others (the Python
 /// package's own copy, and the checkout it was built from).
 static LIBRARY_DIRS: std::sync::OnceLock<Vec<PathBuf>> = std::sync::OnceLock::new();
 
@@ -108,7 +114,7 @@ pub fn set_library_dirs(dirs: Vec<PathBuf>) {
     let _ = LIBRARY_DIRS.set(dirs);
 }
 
-/// Directory holding `libbridge.so` and `libtrain.so`: `TBI_FMU_LIB_DIR`, the folders of
+/// Directory holding `libbridge.so`, `libtrain.so` and `libwind.so`: `TBI_FMU_LIB_DIR`, the folders of
 /// [`set_library_dirs`], then the executable's folder and its parent.
 pub fn library_dir() -> Result<PathBuf, String> {
     let mut candidates = Vec::new();
@@ -125,12 +131,12 @@ pub fn library_dir() -> Result<PathBuf, String> {
         }
     }
     for c in &candidates {
-        if c.join("libbridge.so").is_file() && c.join("libtrain.so").is_file() {
+        if LIBRARIES.iter().all(|l| c.join(l).is_file()) {
             return Ok(c.clone());
         }
     }
     Err(format!(
-        "the FMU libraries libbridge.so and libtrain.so were not found in {:?}; build them with `cargo build --release` (workspace root) or set TBI_FMU_LIB_DIR",
+        "the FMU libraries libbridge.so, libtrain.so and libwind.so were not found in {:?}; build them with `cargo build --release` (workspace root) or set TBI_FMU_LIB_DIR",
         candidates
     ))
 }
@@ -231,7 +237,7 @@ fn declare_dependencies(md: &mut ModelDescription, declared: &Declared) {
     apply(&mut md.model_structure.initial_unknowns, &declared.initial);
 }
 
-const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow the pattern <code>ws[i].name</code> (wheelset i, 1-based), SI units; y right, z down, roll about x right side down. Inputs set before fmi2DoStep(t, h) are the values at t + h: an implicit (iterating) master reproduces the monolithic solution, a plain fixed-step master sees a one-step lag. Each fmi2DoStep is one Newmark (average acceleration) step of size h.</p></body></html>";
+const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow the pattern <code>ws[i].name</code> (wheelset i, 1-based; <code>veh[i]</code> vehicle i, <code>deck[j]</code> deck point j), SI units; y right, z down, roll about x right side down. Inputs set before fmi2DoStep(t, h) are the values at t + h: an implicit (iterating) master reproduces the monolithic solution, a plain fixed-step master sees a one-step lag. Each fmi2DoStep is one Newmark (average acceleration) step of size h.</p></body></html>";
 
 /// Package the model's FMUs and SSP into `out`. Existing files with the same GUIDs are reused.
 pub fn export(model: &Model, coupling: &CouplingConfig, out: &Path) -> Result<Exported, String> {
@@ -283,71 +289,70 @@ pub fn export_with(
     let stop = model.t_end();
     let bridge_path = out.join("bridge.fmu");
     let train_path = out.join("train.fmu");
-    if !is_current(
+    let experiment = (stop, model.dt);
+    let package = Packaging {
+        libs: &libs,
+        experiment,
+    };
+    package.fmu(
         &bridge_path,
-        &bridge_guid,
-        BRIDGE_ID,
-        &libs.join("libbridge.so"),
-    ) {
-        let what = fmu_bridge::layout::DESCRIPTION;
-        let xml = description_xml(
-            BRIDGE_ID,
-            &bridge_guid,
-            what,
-            &bridge_layout.variables(&bridge_res),
-            &fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _)?,
-            stop,
-            model.dt,
-        )?;
-        let doc = DOC.replace("{TITLE}", "bridge").replace("{WHAT}", what);
-        write_fmu(
-            &bridge_path,
-            &xml,
-            BRIDGE_ID,
-            &libs.join("libbridge.so"),
-            &bridge_files,
-            Some(&doc),
-        )
-        .map_err(|e| format!("{}: {e}", bridge_path.display()))?;
-    }
-    if !is_current(
+        (BRIDGE_ID, &bridge_guid, fmu_bridge::layout::DESCRIPTION),
+        &bridge_layout.variables(&bridge_res),
+        || fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _),
+        &bridge_files,
+    )?;
+    package.fmu(
         &train_path,
-        &train_guid,
-        TRAIN_ID,
-        &libs.join("libtrain.so"),
-    ) {
-        let what = fmu_train::layout::DESCRIPTION;
-        let xml = description_xml(
-            TRAIN_ID,
-            &train_guid,
-            what,
-            &train_layout.variables(&train_res),
-            &fmu_train::TrainFmu::dependencies(&train_res)?,
-            stop,
-            model.dt,
-        )?;
-        let doc = DOC.replace("{TITLE}", "train").replace("{WHAT}", what);
-        write_fmu(
-            &train_path,
-            &xml,
-            TRAIN_ID,
-            &libs.join("libtrain.so"),
-            &[(TRAIN_RESOURCE.to_string(), train_json)],
-            Some(&doc),
-        )
-        .map_err(|e| format!("{}: {e}", train_path.display()))?;
-    }
+        (TRAIN_ID, &train_guid, fmu_train::layout::DESCRIPTION),
+        &train_layout.variables(&train_res),
+        || fmu_train::TrainFmu::dependencies(&train_res),
+        &[(TRAIN_RESOURCE.to_string(), train_json)],
+    )?;
+    let wind = match &model.bridge.buffeting {
+        Some(spec) => {
+            let res = WindResources {
+                mean_speed_m_s: spec.mean_speed_m_s,
+                turbulence: spec.turbulence.clone(),
+                points_m: spec
+                    .points_on(model.bridge.x_start_m, model.bridge.x_end_m)
+                    .0,
+                duration_s: spec.duration_s,
+                n_vehicles: model.train_res.spec.n_vehicles(),
+            };
+            let layout = WindLayout::of(&res);
+            let json = serde_json::to_vec_pretty(&res).map_err(|e| e.to_string())?;
+            let guid = fmi_export::guid(WIND_ID, BUILD_ID, &json);
+            let path = out.join("wind.fmu");
+            package.fmu(
+                &path,
+                (WIND_ID, &guid, fmu_wind::layout::DESCRIPTION),
+                &layout.variables(&res),
+                || fmu_wind::WindFmu::dependencies(&res),
+                &[(WIND_RESOURCE.to_string(), json)],
+            )?;
+            Some((path, res, layout))
+        }
+        None => None,
+    };
     let ssp = out.join("system.ssp");
     if with_ssp {
-        write_ssp(
-            &ssp,
-            &bridge_path,
-            &train_path,
-            (&bridge_layout, &bridge_res),
-            (&train_layout, &train_res),
-            stop,
-            (coupling, model.dt),
-        )?;
+        let mut parts = vec![
+            (
+                Side::Bridge,
+                bridge_path.clone(),
+                bridge_layout.variables(&bridge_res),
+            ),
+            (
+                Side::Train,
+                train_path.clone(),
+                train_layout.variables(&train_res),
+            ),
+        ];
+        if let Some((path, res, layout)) = &wind {
+            parts.push((Side::Wind, path.clone(), layout.variables(res)));
+        }
+        let links = connections(&bridge_layout, &train_layout, wind.as_ref().map(|w| &w.2))?;
+        write_ssp(&ssp, &parts, &links, stop, (coupling, model.dt))?;
     }
     Ok(Exported {
         bridge: bridge_path,
@@ -359,7 +364,39 @@ pub fn export_with(
         train_resources: train_res,
         bridge_layout,
         train_layout,
+        wind,
     })
+}
+
+/// Where the FMUs' shared objects are and the default experiment (stop time, step) their
+/// descriptions declare.
+struct Packaging<'a> {
+    libs: &'a Path,
+    experiment: (f64, f64),
+}
+
+impl Packaging<'_> {
+    /// Write the FMU `(id, guid, description)` with these variables, dependencies (probed
+    /// only when it is written) and resource files to `path`, unless the file there has this
+    /// GUID and shared object already.
+    fn fmu(
+        &self,
+        path: &Path,
+        (id, guid, what): (&str, &str, &str),
+        vars: &[Var],
+        dependencies: impl FnOnce() -> Result<Declared, String>,
+        files: &[(String, Vec<u8>)],
+    ) -> Result<(), String> {
+        let so = self.libs.join(format!("lib{id}.so"));
+        if is_current(path, guid, id, &so) {
+            return Ok(());
+        }
+        let (stop, step) = self.experiment;
+        let xml = description_xml(id, guid, what, vars, &dependencies()?, stop, step)?;
+        let doc = DOC.replace("{TITLE}", id).replace("{WHAT}", what);
+        write_fmu(path, &xml, id, &so, files, Some(&doc))
+            .map_err(|e| format!("{}: {e}", path.display()))
+    }
 }
 
 /// Whether `fmu` exists with this GUID and exactly this shared object (so a rebuilt
@@ -396,12 +433,13 @@ fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
     std::fs::read(so).map(|cur| cur == packed).unwrap_or(false)
 }
 
-/// The two FMUs of the coupled system, in the order of [`crate::coupling::System`]'s
-/// participants.
+/// The FMUs of the coupled system, in the order of [`crate::coupling::System`]'s
+/// participants (the wind last, in a turbulent wind only).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Side {
     Bridge = 0,
     Train = 1,
+    Wind = 2,
 }
 
 impl Side {
@@ -410,6 +448,7 @@ impl Side {
         match self {
             Side::Bridge => "bridge",
             Side::Train => "train",
+            Side::Wind => "wind",
         }
     }
 }
@@ -425,10 +464,16 @@ pub struct Link {
     pub name: String,
 }
 
-/// The connections of the coupled system, from the two layouts: per wheelset, its
+/// The connections of the coupled system, from the layouts: per wheelset, its
 /// [`WHEEL_CHANNELS`](tbi_dynamics::interface::WHEEL_CHANNELS) train → bridge, then its
-/// [`RAIL_CHANNELS`](tbi_dynamics::interface::RAIL_CHANNELS) bridge → train.
-pub fn connections(b: &BridgeLayout, t: &TrainLayout) -> Result<Vec<Link>, String> {
+/// [`RAIL_CHANNELS`](tbi_dynamics::interface::RAIL_CHANNELS) bridge → train; with a wind
+/// FMU, per car body its position train → wind and its along-wind turbulence wind → train,
+/// then per deck point its turbulence wind → bridge.
+pub fn connections(
+    b: &BridgeLayout,
+    t: &TrainLayout,
+    wind: Option<&WindLayout>,
+) -> Result<Vec<Link>, String> {
     if b.n_wheelsets() != t.n_wheelsets() {
         return Err(format!(
             "the bridge FMU has {} wheelsets, the train FMU {}",
@@ -457,6 +502,44 @@ pub fn connections(b: &BridgeLayout, t: &TrainLayout) -> Result<Vec<Link>, Strin
             });
         }
     }
+    if let Some(wl) = wind {
+        if wl.body_in.count != t.body_x_out.count || wl.deck_out.count != b.wind_in.count {
+            return Err(format!(
+                "the wind FMU has {} car bodies and {} deck points, the train FMU {} car bodies, the bridge FMU {} deck points",
+                wl.body_in.count,
+                wl.deck_out.count,
+                t.body_x_out.count,
+                b.wind_in.count
+            ));
+        }
+        for i in 0..wl.body_in.count {
+            c.push(Link {
+                from: Side::Train,
+                from_vr: t.body_x_out.vr(i, 0),
+                to: Side::Wind,
+                to_vr: wl.body_in.vr(i, 0),
+                name: wl.body_in.name(i, 0),
+            });
+            c.push(Link {
+                from: Side::Wind,
+                from_vr: wl.body_out.vr(i, 0),
+                to: Side::Train,
+                to_vr: t.wind_in.vr(i, 0),
+                name: t.wind_in.name(i, 0),
+            });
+        }
+        for j in 0..wl.deck_out.count {
+            for k in 0..wl.deck_out.width() {
+                c.push(Link {
+                    from: Side::Wind,
+                    from_vr: wl.deck_out.vr(j, k),
+                    to: Side::Bridge,
+                    to_vr: b.wind_in.vr(j, k),
+                    name: b.wind_in.name(j, k),
+                });
+            }
+        }
+    }
     Ok(c)
 }
 
@@ -469,10 +552,8 @@ fn xml_escape(s: &str) -> String {
 
 fn write_ssp(
     path: &Path,
-    bridge: &Path,
-    train: &Path,
-    (bl, b): (&BridgeLayout, &BridgeResources),
-    (tl, t): (&TrainLayout, &TrainResources),
+    parts: &[(Side, PathBuf, Vec<Var>)],
+    links: &[Link],
     stop: f64,
     (coupling, step): (&CouplingConfig, f64),
 ) -> Result<(), String> {
@@ -481,7 +562,7 @@ fn write_ssp(
         .iter()
         .map(|(k, v)| format!(" {k}=\"{}\"", xml_escape(v)))
         .collect();
-    let connectors = |vars: Vec<Var>| -> String {
+    let connectors = |vars: &[Var]| -> String {
         vars.iter()
             .filter(|v| v.causality != Causality::Parameter)
             .map(|v| {
@@ -490,8 +571,18 @@ fn write_ssp(
             })
             .collect()
     };
+    let components: String = parts
+        .iter()
+        .map(|(side, _, vars)| {
+            let n = side.name();
+            format!(
+                "      <ssd:Component name=\"{n}\" type=\"application/x-fmu-sharedlibrary\" source=\"resources/{n}.fmu\">\n        <ssd:Connectors>\n{}        </ssd:Connectors>\n      </ssd:Component>\n",
+                connectors(vars)
+            )
+        })
+        .collect();
     let mut conns = String::new();
-    for link in connections(bl, tl)? {
+    for link in links {
         let name = xml_escape(&link.name);
         conns.push_str(&format!(
             "      <ssd:Connection startElement=\"{}\" startConnector=\"{name}\" endElement=\"{}\" endConnector=\"{name}\"/>\n",
@@ -504,15 +595,7 @@ fn write_ssp(
 <ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" xmlns:tbi="urn:tbi:coupling" version="1.0" name="train-bridge">
   <ssd:System name="train-bridge">
     <ssd:Elements>
-      <ssd:Component name="bridge" type="application/x-fmu-sharedlibrary" source="resources/bridge.fmu">
-        <ssd:Connectors>
-{}        </ssd:Connectors>
-      </ssd:Component>
-      <ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">
-        <ssd:Connectors>
-{}        </ssd:Connectors>
-      </ssd:Component>
-    </ssd:Elements>
+{}    </ssd:Elements>
     <ssd:Connections>
 {}    </ssd:Connections>
     <ssd:Annotations>
@@ -524,8 +607,7 @@ fn write_ssp(
   <ssd:DefaultExperiment startTime="0" stopTime="{stop}"/>
 </ssd:SystemStructureDescription>
 "#,
-        connectors(bl.variables(b)),
-        connectors(tl.variables(t)),
+        components,
         conns,
         crate::ssp::COUPLING_ANNOTATION,
     );
@@ -549,14 +631,12 @@ fn write_ssp(
             .map_err(|e| format!("{}: {e}", path.display()))
     };
     add("SystemStructure.ssd", ssd.as_bytes())?;
-    add(
-        "resources/bridge.fmu",
-        &std::fs::read(bridge).map_err(|e| format!("{}: {e}", bridge.display()))?,
-    )?;
-    add(
-        "resources/train.fmu",
-        &std::fs::read(train).map_err(|e| format!("{}: {e}", train.display()))?,
-    )?;
+    for (side, fmu, _) in parts {
+        add(
+            &format!("resources/{}.fmu", side.name()),
+            &std::fs::read(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?,
+        )?;
+    }
     z.finish().map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
 }

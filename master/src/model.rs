@@ -272,6 +272,9 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             mean_speed_m_s: w.mean_speed_m_s,
             air_density_kg_m3: w.air_density_kg_m3,
             aero: w.vehicle.clone(),
+            on_deck: w.vehicle_on_deck.clone(),
+            deck_m: Some([bridge.x_start_m, bridge.x_end_m]),
+            turbulent: w.turbulence.is_some() && w.mean_speed_m_s > 0.0,
         }),
     };
     if train_res.x0_m >= bridge.x_end_m {

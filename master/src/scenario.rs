@@ -124,7 +124,9 @@ pub struct Scenario {
 /// `q_z = −½ρU²B C_L`, z down), moment `m_x = ½ρU²B² C_M` about +x (leeward side down).
 /// The bridge starts in its static response to these loads. On the car bodies of coaches
 /// the same wind gives steady side force, lift and rolling moment from the yaw angle of the
-/// relative wind ([`tbi_dynamics::vehicle::aero`]). Turbulence is not applied yet.
+/// relative wind ([`tbi_dynamics::vehicle::aero`]), with the coefficients of the deck or of
+/// the ground by where each body is. `turbulence` buffets the deck and adds its along-wind
+/// component at each car body to the mean.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Wind {
@@ -141,6 +143,9 @@ pub struct Wind {
     /// [`tbi_dynamics::vehicle::aero::VehicleAero::default`].
     #[serde(default)]
     pub vehicle: tbi_dynamics::vehicle::aero::VehicleAero,
+    /// The car bodies' coefficients while on the deck (its shielding by wind barriers, or its
+    /// exposure); `vehicle` applies off the deck. Default: `vehicle` everywhere.
+    pub vehicle_on_deck: Option<tbi_dynamics::vehicle::aero::VehicleAero>,
     /// Turbulence buffeting the deck (quasi-steady, [`tbi_dynamics::bridge::buffeting`]);
     /// None (steady wind only) by default. `turbulence = {}` takes the defaults of
     /// [`tbi_wind::Turbulence`].
@@ -188,9 +193,13 @@ pub struct DeckAero {
 }
 
 impl DeckAero {
-    /// The Tsing Ma deck as assumed here (no section-model data were available to this tool):
-    /// B = 41 m (the deck's width); C_D = 0.14 on B, i.e. about 0.8 on the 7.3 m depth of
-    /// the streamlined box-truss deck; C_L = C_M = 0 at zero angle of attack.
+    /// The Tsing Ma deck as assumed here: B = 41 m (the deck's width); C_D = 0.14 on B, i.e.
+    /// about 0.8 on the 7.3 m depth of the streamlined box-truss deck; C_L = C_M = 0 at zero
+    /// angle of attack. Section-model measurements of this deck are published (L. D. Zhu,
+    /// Y. L. Xu, F. Zhang, H. F. Xiang, "Tsing Ma bridge deck under skew winds — Part I:
+    /// Aerodynamic coefficients", J. Wind Eng. Ind. Aerodyn. 90(7), 781–805, 2002, and its
+    /// Part II on the flutter derivatives), but their values were not available to this
+    /// tool: give them in `[wind] deck`.
     pub fn tsing_ma() -> DeckAero {
         DeckAero {
             width_m: 41.0,
@@ -517,6 +526,7 @@ impl Scenario {
             air_density_kg_m3: default_air_density(),
             deck: None,
             vehicle: Default::default(),
+            vehicle_on_deck: None,
             turbulence: None,
             deck_points: default_deck_points(),
         });
@@ -1487,6 +1497,10 @@ impl Check<'_> {
         w.vehicle
             .validate()
             .map_err(|(f, why)| self.err(&format!("wind.vehicle.{f}"), "", &why))?;
+        if let Some(d) = &w.vehicle_on_deck {
+            d.validate()
+                .map_err(|(f, why)| self.err(&format!("wind.vehicle_on_deck.{f}"), "", &why))?;
+        }
         Ok(w)
     }
 

@@ -201,7 +201,7 @@ fn toml_to_json(text: &str, origin: &str) -> PyResult<String> {
     serde_json::to_string(&value).map_err(|e| SimulationError::new_err(e.to_string()))
 }
 
-/// Folders searched first for the FMU libraries `libbridge.so` and `libtrain.so` that
+/// Folders searched first for the FMU libraries `libbridge.so`, `libtrain.so`, `libwind.so` that
 /// co-simulation and export pack into FMUs (the package's own copy; set once).
 #[pyfunction]
 fn set_library_dirs(dirs: Vec<String>) {

@@ -11,14 +11,14 @@ REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 VENV="${TBI_VENV:-$REPO/target/venv}"
 cd "$REPO"
 
-for lib in libbridge.so libtrain.so; do
+for lib in libbridge.so libtrain.so libwind.so; do
     if [ ! -f "target/release/$lib" ]; then
         echo "install-package.sh: target/release/$lib is missing; run cargo build --release first" >&2
         exit 1
     fi
 done
 mkdir -p python/tbi/lib
-cp target/release/libbridge.so target/release/libtrain.so python/tbi/lib/
+cp target/release/libbridge.so target/release/libtrain.so target/release/libwind.so python/tbi/lib/
 
 # maturin and the package's dependencies are pinned in the venv (setup-venv.sh): build with
 # them, not with a fresh download.

@@ -14,11 +14,13 @@ pub struct Export {
     pub scenario: PathBuf,
     pub bridge: PathBuf,
     pub train: PathBuf,
+    /// `wind.fmu`, exported in a turbulent wind.
+    pub wind: Option<PathBuf>,
     pub ssp: PathBuf,
 }
 
 /// Write `toml` to `<scratch folder labelled name>/scenario.toml` and run `tbi export` on it
-/// (the release `tbi` next to `libbridge.so` and `libtrain.so`).
+/// (the release `tbi` next to the FMU libraries).
 pub fn export(name: &str, toml: &str) -> Export {
     let dir = scratch(name);
     let scenario = dir.join("scenario.toml");
@@ -34,6 +36,7 @@ pub fn export(name: &str, toml: &str) -> Export {
     let e = Export {
         bridge: out.join("bridge.fmu"),
         train: out.join("train.fmu"),
+        wind: Some(out.join("wind.fmu")).filter(|p| p.is_file()),
         ssp: out.join("system.ssp"),
         dir,
         scenario,

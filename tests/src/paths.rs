@@ -97,16 +97,16 @@ pub fn tbi() -> PathBuf {
     built("tbi")
 }
 
-/// The FMU shared objects `libbridge.so` / `libtrain.so`, which `tbi` exports from next to
+/// The FMU shared objects `libbridge.so`, `libtrain.so`, `libwind.so`, which `tbi` exports from next to
 /// itself; `cargo test -p tbi` alone does not build them. Panics when one is missing.
 pub fn require_fmu_libraries() {
-    require_built(&["libbridge.so", "libtrain.so"]);
+    require_built(&["libbridge.so", "libtrain.so", "libwind.so"]);
 }
 
-/// The profile directory after checking that it holds `tbi`, `libbridge.so` and
-/// `libtrain.so` (the release binaries the cross-crate tests drive).
+/// The profile directory after checking that it holds `tbi` and the FMU libraries (the
+/// release binaries the cross-crate tests drive).
 pub fn release_dir() -> PathBuf {
-    require_built(&["tbi", "libbridge.so", "libtrain.so"])
+    require_built(&["tbi", "libbridge.so", "libtrain.so", "libwind.so"])
 }
 
 /// The shared library `<DLL_PREFIX><stem><DLL_SUFFIX>` (`libtestmodel.so`) of a cdylib that

@@ -481,7 +481,7 @@ fn fmu_binaries_need_only_system_libraries() {
         checked.push(u.library);
     }
     let release = tbi_tests::release_dir();
-    for lib in ["libbridge.so", "libtrain.so"] {
+    for lib in ["libbridge.so", "libtrain.so", "libwind.so"] {
         check_dependencies(&release.join(lib));
     }
     // The check can fail: the allow-list refuses what an FMU must not need, and the reader

@@ -1,5 +1,6 @@
-//! The `dependencies` both FMUs declare in `<ModelStructure>` equal finite differences taken
-//! through the FMI 2.0 C ABI of the exported FMUs, with no missing and no spurious entries:
+//! The `dependencies` the three FMUs declare in `<ModelStructure>` equal finite differences
+//! taken through the FMI 2.0 C ABI of the exported FMUs, with no missing and no spurious
+//! entries:
 //!
 //! * `<InitialUnknowns>`: in initialisation mode, every input and parameter moved in turn
 //!   (a fresh instance per probe);
@@ -12,7 +13,9 @@
 //!
 //! The operating point here (positions, speeds, forces, rail motion, hunting) differs from
 //! the one the exporter probes, so the declared structure is checked to hold beyond it.
-//! The case: two 27-DOF coaches with hunting over a 30 m span with irregularity.
+//! The case: two 27-DOF coaches with hunting over a 30 m span with irregularity, in a
+//! turbulent crosswind (so the bridge and the train have their wind inputs, and the wind
+//! FMU its car-body positions).
 
 mod common;
 
@@ -218,7 +221,7 @@ impl Case {
 }
 
 fn scenario() -> String {
-    common::scenarios::coach2().replace(
+    common::scenarios::coach2_windy().replace(
         "vehicles = 2\n",
         "vehicles = 2\nhunting = { amplitude_m = 0.003, wavelength_m = 15.77, seed = 1 }\n",
     )
@@ -229,6 +232,7 @@ fn declared_dependencies_equal_finite_differences() {
     let e = export("dependencies", &scenario());
     let bridge = Fmu::load(&e.bridge).unwrap();
     let train = Fmu::load(&e.train).unwrap();
+    let wind = Fmu::load(e.wind.as_ref().expect("a turbulent wind exports wind.fmu")).unwrap();
 
     // bridge: every wheelset on the 30 m span, at positions, speeds and forces of its own
     let md = bridge.model_description();
@@ -251,6 +255,16 @@ fn declared_dependencies_equal_finite_differences() {
             inputs.push((input(&format!("ws[{w}].{channel}")), value));
         }
     }
+    let deck_points = md
+        .model_variables
+        .iter()
+        .filter(|v| v.name.starts_with("deck[") && v.causality == Causality::Input)
+        .map(|v| v.value_reference)
+        .collect::<Vec<_>>();
+    assert_eq!(deck_points.len(), 2 * 12, "deck[j].u and .w inputs");
+    for (j, vr) in deck_points.into_iter().enumerate() {
+        inputs.push((vr, 1.5 - 0.2 * j as f64));
+    }
     Case {
         fmu: bridge,
         inputs,
@@ -271,6 +285,21 @@ fn declared_dependencies_equal_finite_differences() {
         inputs: rails,
     };
     case.check("train");
+    // wind: every car body on the span
+    let bodies: Vec<(u32, f64)> = wind
+        .model_description()
+        .model_variables
+        .iter()
+        .filter(|v| v.causality == Causality::Input)
+        .enumerate()
+        .map(|(i, v)| (v.value_reference, 4.1 + 11.3 * i as f64))
+        .collect();
+    assert_eq!(bodies.len(), 2, "veh[i].x inputs");
+    Case {
+        fmu: wind,
+        inputs: bodies,
+    }
+    .check("wind");
     // the blocks: nothing of vehicle 1 moves with the rails under vehicle 2
     let found = case.differences(false);
     let md = case.md();

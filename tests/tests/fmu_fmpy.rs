@@ -1,5 +1,5 @@
 //! The exported FMUs and SSP in FMPy 0.3.32, the reference importer: `fmpy validate`,
-//! `fmpy simulate` of each FMU alone (the bridge also with an input file, against its static
+//! `fmpy simulate` of each FMU alone (also the three of a turbulent crosswind) (the bridge also with an input file, against its static
 //! deflection), and FMPy's SSP master against the monolithic solver as the step shrinks.
 //!
 //! The venv comes from `tests/python/setup-venv.sh`; if it is missing and cannot be created
@@ -21,6 +21,19 @@ fn coach2() -> &'static Export {
     E.get_or_init(|| export("fmpy-coach2", &scenarios::coach2()))
 }
 
+/// The three FMUs of a turbulent crosswind (bridge and train with their wind inputs, wind).
+fn windy() -> &'static Export {
+    static E: OnceLock<Export> = OnceLock::new();
+    E.get_or_init(|| export("fmpy-windy", &scenarios::coach2_windy()))
+}
+
+/// The FMUs of an export.
+fn fmus(e: &Export) -> Vec<&Path> {
+    let mut v = vec![e.bridge.as_path(), e.train.as_path()];
+    v.extend(e.wind.as_deref());
+    v
+}
+
 fn moving_force() -> &'static Export {
     static E: OnceLock<Export> = OnceLock::new();
     E.get_or_init(|| export("fmpy-force", &scenarios::moving_force()))
@@ -31,8 +44,9 @@ fn fmpy_validate_finds_no_problems() {
     let Some(venv) = fmpy::venv() else {
         return;
     };
-    for e in [coach2(), moving_force()] {
-        for fmu in [&e.bridge, &e.train] {
+    assert!(windy().wind.is_some(), "a turbulent wind exports wind.fmu");
+    for e in [coach2(), moving_force(), windy()] {
+        for fmu in fmus(e) {
             let out = run(fmpy(venv).arg("validate").arg(fmu));
             let stdout = String::from_utf8_lossy(&out.stdout);
             assert!(
@@ -70,8 +84,12 @@ fn fmpy_simulates_each_fmu_alone() {
     let Some(venv) = fmpy::venv() else {
         return;
     };
-    for (e, label) in [(coach2(), "coach2"), (moving_force(), "force")] {
-        for fmu in [&e.bridge, &e.train] {
+    for (e, label) in [
+        (coach2(), "coach2"),
+        (moving_force(), "force"),
+        (windy(), "windy"),
+    ] {
+        for fmu in fmus(e) {
             let csv = e.dir.join(format!(
                 "{}-alone.csv",
                 fmu.file_stem().unwrap().to_string_lossy()

@@ -46,7 +46,11 @@ pub struct BuffetingSpec {
 /// The buffeting forces of one run (see the module docs).
 #[derive(Debug, Clone)]
 pub struct DeckBuffeting {
-    field: WindField,
+    /// The field at the deck points; None when the wind comes from outside (the bridge FMU's
+    /// inputs, [`Self::add_modal_force_from`]).
+    field: Option<WindField>,
+    /// The deck points, m.
+    x_m: Vec<f64>,
     /// Per point: Δx_j times the shapes (lateral, vertical, torsion) of every mode, point-major.
     weighted_shapes: Vec<[f64; 3]>,
     n_modes: usize,
@@ -58,11 +62,17 @@ pub struct DeckBuffeting {
 impl DeckBuffeting {
     /// Generate the field at the deck points and tabulate the weighted shapes.
     pub fn new(bridge: &ModalBridge, spec: &BuffetingSpec) -> Result<DeckBuffeting, String> {
+        let mut b = Self::without_field(bridge, spec);
+        b.field = Some(spec.generate(&b.x_m)?);
+        Ok(b)
+    }
+
+    /// The forces of a wind given from outside at the deck points ([`BuffetingSpec::points`]),
+    /// without generating the field.
+    pub fn without_field(bridge: &ModalBridge, spec: &BuffetingSpec) -> DeckBuffeting {
         let (x, dx) = deck_points(bridge, spec);
         let p = x.len();
         let (a, b) = (bridge.x_start_m, bridge.x_end_m);
-        let field = WindField::generate(&spec.turbulence, spec.mean_speed_m_s, &x, spec.duration_s)
-            .map_err(|e| format!("wind.turbulence: {e}"))?;
         let n = bridge.n_modes();
         let mut weighted_shapes = vec![[0.0; 3]; p * n];
         let mut phi = vec![[0.0; 3]; n];
@@ -75,13 +85,14 @@ impl DeckBuffeting {
                 }
             }
         }
-        Ok(DeckBuffeting {
-            field,
+        DeckBuffeting {
+            field: None,
+            x_m: x,
             weighted_shapes,
             n_modes: n,
             q_b: 0.5 * spec.air_density_kg_m3 * spec.mean_speed_m_s.powi(2) * spec.width_m,
             spec: spec.clone(),
-        })
+        }
     }
 
     /// Check what [`Self::new`] would need, without generating the field.
@@ -92,21 +103,39 @@ impl DeckBuffeting {
             .map_err(|e| format!("wind.turbulence: {e}"))
     }
 
-    /// The deck points' field.
-    pub fn field(&self) -> &WindField {
-        &self.field
+    /// The deck points' field (None when the wind comes from outside).
+    pub fn field(&self) -> Option<&WindField> {
+        self.field.as_ref()
     }
 
-    /// Add the generalised buffeting forces at time `t` to `out` (one per mode).
+    /// The deck points, m.
+    pub fn points(&self) -> &[f64] {
+        &self.x_m
+    }
+
+    /// Add the generalised buffeting forces at time `t` to `out` (one per mode); nothing
+    /// without a field.
     pub fn add_modal_force(&self, t: f64, out: &mut [f64]) {
+        if let Some(f) = &self.field {
+            let when = f.time_index(t);
+            self.add_forces(|j| f.at_point(j, when), out);
+        }
+    }
+
+    /// Add the generalised buffeting forces of the turbulence `uw[j] = (u, w)` at the deck
+    /// points to `out`.
+    pub fn add_modal_force_from(&self, uw: &[[f64; 2]], out: &mut [f64]) {
+        self.add_forces(|j| uw[j], out);
+    }
+
+    fn add_forces(&self, uw: impl Fn(usize) -> [f64; 2], out: &mut [f64]) {
         let s = &self.spec;
         let u_mean = s.mean_speed_m_s;
         let [cd, cl, cm] = s.coefficients;
         let [dcd, dcl, dcm] = s.slopes;
         let n = self.n_modes;
-        let when = self.field.time_index(t);
-        for j in 0..self.field.x_m.len() {
-            let [u, w] = self.field.at_point(j, when);
+        for j in 0..self.x_m.len() {
+            let [u, w] = uw(j);
             let (ru, rw) = (u / u_mean, w / u_mean);
             let drag = self.q_b * (2.0 * cd * ru + dcd * rw);
             let lift = self.q_b * (2.0 * cl * ru + (dcl + cd) * rw);
@@ -123,8 +152,20 @@ impl DeckBuffeting {
 
 /// The deck points of a spec, equally spaced from deck start to end, and their spacing, m.
 fn deck_points(bridge: &ModalBridge, spec: &BuffetingSpec) -> (Vec<f64>, f64) {
-    let p = spec.points.max(2);
-    let (a, b) = (bridge.x_start_m, bridge.x_end_m);
-    let dx = (b - a) / (p - 1) as f64;
-    ((0..p).map(|j| a + j as f64 * dx).collect(), dx)
+    spec.points_on(bridge.x_start_m, bridge.x_end_m)
+}
+
+impl BuffetingSpec {
+    /// The deck points on a deck from `a` to `b`, equally spaced, and their spacing, m.
+    pub fn points_on(&self, a: f64, b: f64) -> (Vec<f64>, f64) {
+        let p = self.points.max(2);
+        let dx = (b - a) / (p - 1) as f64;
+        ((0..p).map(|j| a + j as f64 * dx).collect(), dx)
+    }
+
+    /// The field of this spec at the points `x` (from its seed).
+    pub fn generate(&self, x: &[f64]) -> Result<WindField, String> {
+        WindField::generate(&self.turbulence, self.mean_speed_m_s, x, self.duration_s)
+            .map_err(|e| format!("wind.turbulence: {e}"))
+    }
 }

@@ -52,6 +52,16 @@ impl VehicleState {
     /// `K v = −Σ K_vw u`, quasi-static velocity `K v̇ = −Σ K_vw u̇`, and the acceleration from
     /// the equations of motion.
     pub fn initial(model: &LinearVehicle, rails: &[[Vector3<f64>; 3]]) -> Self {
+        Self::initial_loaded(model, rails, None)
+    }
+
+    /// As [`Self::initial`], with the external forces `f` (one per DOF, beyond the static
+    /// loads: the wind's) in the initial acceleration.
+    pub fn initial_loaded(
+        model: &LinearVehicle,
+        rails: &[[Vector3<f64>; 3]],
+        f: Option<&DVector<f64>>,
+    ) -> Self {
         let n = model.ndof();
         if n == 0 {
             return VehicleState {
@@ -76,6 +86,9 @@ impl VehicleState {
         let mut rhs = -(&model.c * &vd) - &model.k * &v;
         for (c, r) in model.wheelsets.iter().zip(rails) {
             rhs -= &c.k_vw * r[0] + &c.c_vw * r[1];
+        }
+        if let Some(f) = f {
+            rhs += f;
         }
         let vdd = model
             .m

@@ -148,7 +148,17 @@ impl Monolithic {
             .enumerate()
             .map(|(i, tv)| {
                 let f = s.first_ws[i];
-                VehicleState::initial(&tv.model, &s.rail[f..f + tv.model.wheelsets.len()])
+                let wind = s.train.wind.as_ref().map(|_| {
+                    let mut f = DVector::zeros(tv.model.ndof());
+                    let u = body_turbulence(&s.buffeting, &s.train, i, 0.0);
+                    s.train.add_wind_force(i, 0.0, u, 1.0, &mut f);
+                    f
+                });
+                VehicleState::initial_loaded(
+                    &tv.model,
+                    &s.rail[f..f + tv.model.wheelsets.len()],
+                    wind.as_ref(),
+                )
             })
             .collect();
         s.initial_bridge_acceleration();
@@ -270,6 +280,11 @@ impl Monolithic {
                 }
                 bv.gemv(1.0, &model.m, vm, 0.0);
                 bv.gemv(1.0, &model.c, vc, 1.0);
+                // the wind on the body beyond its static loads, F₁
+                if self.train.wind.is_some() {
+                    let u = body_turbulence(&self.buffeting, &self.train, i, t1);
+                    self.train.add_wind_force(i, t1, u, 1.0, bv);
+                }
             }
             for (l, c) in model.wheelsets.iter().enumerate() {
                 let ws = f0 + l;
@@ -475,6 +490,20 @@ impl Monolithic {
             .expect("reduced bridge matrix is positive definite")
             .solve(&w.bq)
     }
+}
+
+/// The along-wind turbulence at vehicle `i`'s centre at time `t`: the deck's wind field
+/// there (its end values beyond the deck), or 0 in a steady wind.
+fn body_turbulence(
+    buffeting: &Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
+    train: &Train,
+    i: usize,
+    t: f64,
+) -> f64 {
+    buffeting.as_ref().map_or(0.0, |b| {
+        b.field()
+            .map_or(0.0, |f| f.at(train.x_at(train.centre_offset_m(i), t), t)[0])
+    })
 }
 
 /// Iterations of the conjugate-gradient path before the direct solver takes over.

@@ -109,6 +109,10 @@ pub struct BridgeSide {
     cache: Arc<Mutex<ShapeCache>>,
     /// The deck's buffeting forces (derived from the bridge; shared by clones).
     buffeting: Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
+    /// The turbulence (u, w) at the deck points at the end of the coming step, m/s, when it
+    /// comes from outside (the bridge FMU's inputs `deck[j].u`, `deck[j].w`); None: the
+    /// bridge generates its field ([`Self::take_wind_from_inputs`]).
+    pub deck_wind: Option<Vec<[f64; 2]>>,
 }
 
 impl Clone for BridgeSide {
@@ -122,6 +126,7 @@ impl Clone for BridgeSide {
             scratch: self.scratch.clone(),
             cache: self.cache.clone(),
             buffeting: self.buffeting.clone(),
+            deck_wind: self.deck_wind.clone(),
         }
     }
 
@@ -135,6 +140,7 @@ impl Clone for BridgeSide {
         self.scratch.clone_from(&source.scratch);
         self.cache.clone_from(&source.cache);
         self.buffeting.clone_from(&source.buffeting);
+        self.deck_wind.clone_from(&source.deck_wind);
     }
 }
 
@@ -158,8 +164,33 @@ impl BridgeSide {
                         .expect("the buffeting spec is checked when the model is built"),
                 )
             }),
+            deck_wind: None,
             bridge,
             track,
+        }
+    }
+
+    /// Take the deck's turbulence from [`Self::deck_wind`] (set before each step) instead of
+    /// generating it: the bridge FMU coupled to a wind FMU. Returns the number of deck points
+    /// (0 without buffeting).
+    pub fn take_wind_from_inputs(&mut self) -> usize {
+        let Some(spec) = &self.bridge.buffeting else {
+            return 0;
+        };
+        let b = crate::bridge::buffeting::DeckBuffeting::without_field(&self.bridge, spec);
+        let n = b.points().len();
+        self.buffeting = Some(Arc::new(b));
+        self.deck_wind = Some(vec![[0.0; 2]; n]);
+        n
+    }
+
+    /// Add the buffeting forces at time `t` to `fq`.
+    fn add_buffeting(&self, t: f64, fq: &mut [f64]) {
+        if let Some(b) = &self.buffeting {
+            match &self.deck_wind {
+                Some(uw) => b.add_modal_force_from(uw, fq),
+                None => b.add_modal_force(t, fq),
+            }
         }
     }
 
@@ -193,9 +224,7 @@ impl BridgeSide {
         self.state.qd = vec![0.0; nb];
         self.state.t = 0.0;
         let mut fq = self.modal_force(inputs);
-        if let Some(b) = &self.buffeting {
-            b.add_modal_force(0.0, &mut fq);
-        }
+        self.add_buffeting(0.0, &mut fq);
         self.state.qdd = (0..nb)
             .map(|n| fq[n] + self.bridge.steady(n) - self.omega[n].powi(2) * self.state.q[n])
             .collect();
@@ -211,9 +240,7 @@ impl BridgeSide {
         let nm = Newmark::new(h);
         let mut fq = self.modal_force(inputs);
         let t1 = self.state.t + h;
-        if let Some(b) = &self.buffeting {
-            b.add_modal_force(t1, &mut fq);
-        }
+        self.add_buffeting(t1, &mut fq);
         let s = &mut self.state;
         s.t = t1;
         for n in 0..fq.len() {
@@ -270,6 +297,10 @@ pub struct TrainSide {
     pub rails: Vec<[Vector3<f64>; 3]>,
     /// Current time, s.
     pub t: f64,
+    /// Along-wind turbulence u at each car body's centre, m/s, at the end of the coming step
+    /// (at `t` before initialisation): the train FMU's inputs `veh[i].u`; zero in a steady
+    /// wind ([`crate::vehicle::aero::TrainWind`]).
+    pub body_wind: Vec<f64>,
     /// Newmark factors per vehicle (derived from the model and h only; shared by clones,
     /// copied on the rare write).
     factors: Arc<Vec<Factor>>,
@@ -285,6 +316,7 @@ impl Clone for TrainSide {
             states: self.states.clone(),
             rails: self.rails.clone(),
             t: self.t,
+            body_wind: self.body_wind.clone(),
             factors: self.factors.clone(),
             work: self.work.clone(),
         }
@@ -297,6 +329,7 @@ impl Clone for TrainSide {
         self.states.clone_from(&source.states);
         self.rails.clone_from(&source.rails);
         self.t = source.t;
+        self.body_wind.clone_from(&source.body_wind);
         self.factors.clone_from(&source.factors);
     }
 }
@@ -332,6 +365,7 @@ impl TrainSide {
                     [DVector::zeros(n), DVector::zeros(n), DVector::zeros(n)]
                 })
                 .collect(),
+            body_wind: vec![0.0; train.vehicles.len()],
             wheelsets,
             train,
             t: 0.0,
@@ -362,7 +396,14 @@ impl TrainSide {
         let mut first = 0;
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let nw = tv.model.wheelsets.len();
-            self.states[i] = VehicleState::initial(&tv.model, &self.rails[first..first + nw]);
+            let f = self.train.wind.as_ref().map(|_| {
+                let mut f = DVector::zeros(tv.model.ndof());
+                self.train
+                    .add_wind_force(i, t, self.body_wind[i], 1.0, &mut f);
+                f
+            });
+            self.states[i] =
+                VehicleState::initial_loaded(&tv.model, &self.rails[first..first + nw], f.as_ref());
             first += nw;
         }
     }
@@ -408,6 +449,9 @@ impl TrainSide {
                     a.gemv(-nm.a0, &c.k_vw, &r[0], 1.0);
                     a.gemv(-nm.a0, &c.c_vw, &r[1], 1.0);
                 }
+                // the wind on the body beyond its static loads, F₁
+                self.train
+                    .add_wind_force(i, t1, self.body_wind[i], nm.a0, a);
                 self.factors[i]
                     .chol
                     .as_ref()

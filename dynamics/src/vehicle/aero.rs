@@ -146,19 +146,22 @@ impl VehicleAero {
 
     /// The loads on a car body at train speed `v` (m/s, ≥ 0) in a mean wind `u` (m/s, ≥ 0)
     /// normal to the track, air density `rho` (kg/m³).
+    /// A wind towards −y (`u < 0`, a gust reversing the mean) gives the mirror loads: side
+    /// force and rolling moment change sign, the lift does not.
     pub fn loads(&self, v: f64, u: f64, rho: f64) -> BodyLoads {
         let v2 = v * v + u * u;
         let beta = if v2 > 0.0 {
-            u.atan2(v).to_degrees()
+            u.abs().atan2(v).to_degrees()
         } else {
             0.0
         };
         let q = 0.5 * rho * v2 * self.area_m2;
+        let sign = if u < 0.0 { -1.0 } else { 1.0 };
         BodyLoads {
-            side_n: q * self.at(&self.side, beta),
+            side_n: sign * q * self.at(&self.side, beta),
             lift_n: q * self.at(&self.lift, beta),
-            roll_nm: q * self.height_m * self.at(&self.roll, beta),
-            yaw_deg: beta,
+            roll_nm: sign * q * self.height_m * self.at(&self.roll, beta),
+            yaw_deg: sign * beta,
         }
     }
 }
@@ -195,15 +198,112 @@ impl LinearVehicle {
     /// DOFs of [`super::BodyDofs`]). Vehicles without a car body that rolls (moving forces,
     /// sprung masses) are returned unchanged.
     pub fn in_crosswind(&self, loads: &BodyLoads) -> Result<LinearVehicle, String> {
-        let b = self.body;
-        let (Some(y), Some(z), Some(roll)) = (b.lateral, b.vertical, b.roll) else {
+        let Some(body) = WindBody::of(self) else {
             return Ok(self.clone());
         };
         let mut f = DVector::zeros(self.ndof());
-        f[y] = loads.side_n;
-        f[z] = -loads.lift_n;
-        f[roll] = loads.roll_nm - b.cg_height_m * loads.side_n;
+        body.add(loads, 1.0, &mut f);
         self.with_body_loads(&f)
+    }
+}
+
+/// The car body of a vehicle as the wind loads it: its lateral, vertical and roll DOFs and
+/// the height of its centre of gravity above the wheelset reference line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindBody {
+    /// DOF indices (lateral, vertical, roll).
+    pub dofs: [usize; 3],
+    /// Height H of the centre of gravity above the wheelset reference line, m.
+    pub cg_height_m: f64,
+}
+
+impl WindBody {
+    /// The body of `v`, if it has one that rolls (coaches; not moving forces or sprung
+    /// masses).
+    pub fn of(v: &LinearVehicle) -> Option<WindBody> {
+        let b = v.body;
+        match (b.lateral, b.vertical, b.roll) {
+            (Some(y), Some(z), Some(r)) => Some(WindBody {
+                dofs: [y, z, r],
+                cg_height_m: b.cg_height_m,
+            }),
+            _ => None,
+        }
+    }
+
+    /// Add `scale` times the generalised forces of `loads` to `f`: `F_S` on the lateral
+    /// DOF, `−F_L` on the vertical one (z down), `M_R − H F_S` on the roll (the moment
+    /// about the centre of gravity).
+    pub fn add(&self, loads: &BodyLoads, scale: f64, f: &mut DVector<f64>) {
+        let [y, z, r] = self.dofs;
+        f[y] += scale * loads.side_n;
+        f[z] -= scale * loads.lift_n;
+        f[r] += scale * (loads.roll_nm - self.cg_height_m * loads.side_n);
+    }
+}
+
+/// The wind on a running train's car bodies, step by step.
+///
+/// Car body `i`, whose centre (the mean of its wheelsets' positions) is at `x_c(t)`, sees
+/// the along-wind velocity `U + u(x_c, t)` (the turbulence `u` from the wind field, or 0 in
+/// a steady wind; the vertical turbulence is not applied to the bodies) and carries the loads
+/// of [`VehicleAero::loads`] with the coefficients of where it is: `deck` while
+/// `x_c` lies on the deck, `ground` elsewhere (the shielding or exposure of the deck). Its
+/// static equilibrium already holds the steady loads at its starting place
+/// (`reference`, [`LinearVehicle::in_crosswind`]), so the equations of motion get the
+/// difference `f(t) = F(loads(U + u, set(x_c))) − F(reference)` on the body's DOFs
+/// ([`WindBody::add`]) — zero in a steady wind that stays on one kind of ground.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainWind {
+    /// Mean wind speed U, m/s.
+    pub mean_speed_m_s: f64,
+    /// Air density ρ, kg/m³.
+    pub air_density_kg_m3: f64,
+    /// Train speed v, m/s.
+    pub speed_m_s: f64,
+    /// Coefficients off the deck.
+    pub ground: VehicleAero,
+    /// Coefficients on the deck.
+    pub deck: VehicleAero,
+    /// The deck's extent `[start, end]`, m (None: all ground).
+    pub deck_m: Option<[f64; 2]>,
+    /// Per vehicle: its body, the distance of the body's centre behind the first axle (m)
+    /// and the loads in its static equilibrium; None for a vehicle without a rolling body.
+    pub bodies: Vec<Option<(WindBody, f64, BodyLoads)>>,
+}
+
+impl TrainWind {
+    /// Whether a body centred at `x` is on the deck.
+    pub fn on_deck(&self, x: f64) -> bool {
+        self.deck_m.is_some_and(|[a, b]| (a..=b).contains(&x))
+    }
+
+    /// The loads on a body centred at `x` in the along-wind turbulence `u`.
+    pub fn loads_at(&self, x: f64, u: f64) -> BodyLoads {
+        let aero = if self.on_deck(x) {
+            &self.deck
+        } else {
+            &self.ground
+        };
+        aero.loads(
+            self.speed_m_s,
+            self.mean_speed_m_s + u,
+            self.air_density_kg_m3,
+        )
+    }
+
+    /// Add `scale` times the wind force of vehicle `i` (centred at `x`, in the turbulence
+    /// `u`) beyond its static loads to `f` (see the type's docs).
+    pub fn add_force(&self, i: usize, x: f64, u: f64, scale: f64, f: &mut DVector<f64>) {
+        if let Some((body, _, reference)) = &self.bodies[i] {
+            body.add(&self.loads_at(x, u), scale, f);
+            body.add(reference, -scale, f);
+        }
+    }
+
+    /// Whether vehicle `i` feels the wind.
+    pub fn loads_vehicle(&self, i: usize) -> bool {
+        self.bodies[i].is_some()
     }
 }
 

@@ -67,6 +67,16 @@ x_m = 15.0
     )
 }
 
+/// [`coach2`] in a turbulent 20 m/s crosswind (a 12 m deck, the default turbulence at 12
+/// deck points): exported as three FMUs, the wind's feeding the bridge and the train.
+#[allow(dead_code)]
+pub fn coach2_windy() -> String {
+    coach2()
+        + "[wind]\nmean_speed_m_s = 20.0\ndeck_points = 12\n\
+           deck = { width_m = 12.0, drag = 1.5, lift = 0.3, moment = 0.1, lift_slope = 3.0, moment_slope = 0.8 }\n\
+           turbulence = {}\n"
+}
+
 /// Two moving forces on the same span, smooth track, 20 modes with 20 % damping and three
 /// probes ([`FORCE_PROBES_M`]).
 pub fn moving_force() -> String {

@@ -1,0 +1,3 @@
+//! `libwind.so`: the wind FMU's C symbols. The model and its variable layout are the
+//! `fmu-wind` library, which the master links too (without these symbols).
+fmi_export::export_fmi2!(fmu_wind::WindFmu, "wind");
