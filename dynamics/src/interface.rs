@@ -236,6 +236,13 @@ impl Block {
             .collect()
     }
 
+    /// The output-buffer slot of `vr` in the first of the output `blocks` that holds it.
+    pub fn slot_of(blocks: &[Block], vr: u32) -> Option<usize> {
+        blocks
+            .iter()
+            .find_map(|b| b.decode(vr).map(|(i, k)| b.slot(i, k)))
+    }
+
     /// Every value reference of the block, in order.
     pub fn all_vrs(&self) -> Vec<u32> {
         (0..self.len() as u32).map(|o| self.vr0 + o).collect()

@@ -130,9 +130,7 @@ impl BridgeLayout {
         if let Some((j, k)) = self.wind_in.decode(vr) {
             return Some(BridgeVar::Wind { j, k });
         }
-        [self.rail_out, self.probe_out]
-            .iter()
-            .find_map(|b| b.decode(vr).map(|(i, k)| BridgeVar::Output(b.slot(i, k))))
+        Block::slot_of(&[self.rail_out, self.probe_out], vr).map(BridgeVar::Output)
     }
 
     /// All variables in value-reference order (what `modelDescription.xml` lists).

@@ -228,9 +228,8 @@ impl TrainLayout {
         if let Some((i, _)) = self.wind_in.decode(vr) {
             return Some(TrainVar::Wind(i));
         }
-        [self.wheel_out, self.vehicle_out, self.body_x_out]
-            .iter()
-            .find_map(|b| b.decode(vr).map(|(i, k)| TrainVar::Output(b.slot(i, k))))
+        Block::slot_of(&[self.wheel_out, self.vehicle_out, self.body_x_out], vr)
+            .map(TrainVar::Output)
     }
 
     /// All variables in value-reference order (what `modelDescription.xml` lists).

@@ -64,9 +64,7 @@ impl WindLayout {
         if let Some((i, _)) = self.body_in.decode(vr) {
             return Some(WindVar::Body(i));
         }
-        [self.deck_out, self.body_out]
-            .iter()
-            .find_map(|b| b.decode(vr).map(|(i, k)| WindVar::Output(b.slot(i, k))))
+        Block::slot_of(&[self.deck_out, self.body_out], vr).map(WindVar::Output)
     }
 
     /// All variables in value-reference order (what `modelDescription.xml` lists).
