@@ -77,6 +77,9 @@ pub struct WindResources {
     pub duration_s: f64,
     /// Number of vehicles whose car bodies it gives the wind at.
     pub n_vehicles: usize,
+    /// A measured record at the deck points, used instead of generating `turbulence`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record: Option<tbi_wind::WindField>,
 }
 
 /// One scalar channel of a block: its name (after the `.`), unit and description.

@@ -2,8 +2,9 @@
 //! FMI plumbing is `fmi-export`'s, the field is [`tbi_wind::WindField`].
 //!
 //! Resources: `wind.json` ([`WindResources`]: mean speed, turbulence with its seed, deck
-//! points, duration, vehicle count). At instantiation it generates the field at the deck
-//! points, exactly as the monolithic solver does from the same data. Variables: [`layout`].
+//! points, duration, vehicle count, or a measured record at the deck points). At
+//! instantiation it generates the field at the deck points, exactly as the monolithic solver
+//! does from the same data. Variables: [`layout`].
 //! At every communication point `t` (after `fmi2DoStep(t − h, h)`) its outputs are the
 //! turbulence (u, w) at each deck point and at each car body's centre `veh[i].x` (its input,
 //! from the train FMU): linear between the deck points and in time, the end points' values
@@ -57,13 +58,17 @@ impl WindFmu {
                 res.mean_speed_m_s
             ));
         }
-        let field = WindField::generate(
-            &res.turbulence,
-            res.mean_speed_m_s,
-            &res.points_m,
-            res.duration_s,
-        )
-        .map_err(|e| format!("turbulence: {e}"))?;
+        let field = match &res.record {
+            Some(r) if r.x_m == res.points_m => r.clone(),
+            Some(_) => return Err("record: its points are not the deck points".into()),
+            None => WindField::generate(
+                &res.turbulence,
+                res.mean_speed_m_s,
+                &res.points_m,
+                res.duration_s,
+            )
+            .map_err(|e| format!("turbulence: {e}"))?,
+        };
         let layout = WindLayout::of(&res);
         Ok(WindFmu {
             x: vec![PARKED_X; res.n_vehicles],

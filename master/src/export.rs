@@ -318,6 +318,15 @@ pub fn export_with(
                     .0,
                 duration_s: spec.duration_s,
                 n_vehicles: model.train_res.spec.n_vehicles(),
+                record: None,
+            };
+            let res = WindResources {
+                record: spec
+                    .record
+                    .as_ref()
+                    .map(|_| spec.generate(&res.points_m))
+                    .transpose()?,
+                ..res
             };
             let layout = WindLayout::of(&res);
             let json = serde_json::to_vec_pretty(&res).map_err(|e| e.to_string())?;

@@ -274,7 +274,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             aero: w.vehicle.clone(),
             on_deck: w.vehicle_on_deck.clone(),
             deck_m: Some([bridge.x_start_m, bridge.x_end_m]),
-            turbulent: w.turbulence.is_some() && w.mean_speed_m_s > 0.0,
+            turbulent: w.is_turbulent(),
         }),
     };
     if train_res.x0_m >= bridge.x_end_m {
@@ -306,8 +306,26 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             e.to_string(),
         )
     })?;
-    if let Some(w) = s.wind.as_ref().filter(|w| w.mean_speed_m_s > 0.0) {
-        if let Some(t) = &w.turbulence {
+    if let Some(w) = s.wind.as_ref().filter(|w| w.is_turbulent()) {
+        {
+            let record = match &w.record {
+                Some(path) => {
+                    let file = s.base_dir.join(path);
+                    let text = std::fs::read_to_string(&file).map_err(|e| {
+                        InputError::field(&s.origin, "wind.record", path.display(), e.to_string())
+                    })?;
+                    let field = tbi_wind::record::parse(
+                        &text,
+                        &file.display().to_string(),
+                        w.mean_speed_m_s,
+                    )
+                    .map_err(|e| {
+                        InputError::field(&s.origin, "wind.record", path.display(), e.to_string())
+                    })?;
+                    Some(Arc::new(field))
+                }
+                None => None,
+            };
             let d = w.deck();
             let spec = tbi_dynamics::bridge::buffeting::BuffetingSpec {
                 mean_speed_m_s: w.mean_speed_m_s,
@@ -315,7 +333,8 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
                 width_m: d.width_m,
                 coefficients: [d.drag, d.lift, d.moment],
                 slopes: [d.drag_slope, d.lift_slope, d.moment_slope],
-                turbulence: t.clone(),
+                turbulence: w.turbulence.clone().unwrap_or_default(),
+                record,
                 points: w.deck_points,
                 duration_s: steps as f64 * s.run.dt_s,
             };

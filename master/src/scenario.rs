@@ -150,6 +150,11 @@ pub struct Wind {
     /// None (steady wind only) by default. `turbulence = {}` takes the defaults of
     /// [`tbi_wind::Turbulence`].
     pub turbulence: Option<tbi_wind::Turbulence>,
+    /// A measured record of the turbulence instead (CSV `time_s,x_m,u_m_s,w_m_s`, u and w
+    /// about the mean U; [`tbi_wind::record`]), relative to the scenario's folder; read
+    /// linearly between its points at the deck points, its end values beyond its ends.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record: Option<PathBuf>,
     /// Deck points the turbulence is generated at, equally spaced (2 … 2000). Default 200.
     #[serde(default = "default_deck_points")]
     pub deck_points: usize,
@@ -215,6 +220,11 @@ impl DeckAero {
 }
 
 impl Wind {
+    /// Whether the wind is turbulent (generated or recorded turbulence about a mean > 0).
+    pub fn is_turbulent(&self) -> bool {
+        (self.turbulence.is_some() || self.record.is_some()) && self.mean_speed_m_s > 0.0
+    }
+
     /// The deck coefficients used (the given ones).
     pub fn deck(&self) -> DeckAero {
         self.deck.clone().expect("checked: a deck for a wind")
@@ -528,6 +538,7 @@ impl Scenario {
             vehicle: Default::default(),
             vehicle_on_deck: None,
             turbulence: None,
+            record: None,
             deck_points: default_deck_points(),
         });
         w.mean_speed_m_s = u;
@@ -1482,6 +1493,20 @@ impl Check<'_> {
         }
         if !(2..=2000).contains(&w.deck_points) {
             return Err(self.err("wind.deck_points", w.deck_points, "must lie in 2..=2000"));
+        }
+        if w.record.is_some() && w.turbulence.is_some() {
+            return Err(self.err(
+                "wind.record",
+                w.record.as_ref().expect("checked").display(),
+                "give either turbulence (generated) or record (measured), not both",
+            ));
+        }
+        if w.record.is_some() && w.mean_speed_m_s <= 0.0 {
+            return Err(self.err(
+                "wind.record",
+                w.record.as_ref().expect("checked").display(),
+                "a record of the turbulence needs a mean wind: mean_speed_m_s > 0",
+            ));
         }
         if let Some(t) = &w.turbulence {
             t.validate().map_err(|e| match e {

@@ -112,6 +112,14 @@ fn bad_wind_input_is_refused_by_name() {
         with("mean_speed_m_s = 20.0\ndeck_points = 1"),
         &["wind.deck_points", "1"],
     );
+    refused(
+        with("mean_speed_m_s = 20.0\nvehicle_on_deck = { area_m2 = 0.0 }"),
+        &["wind.vehicle_on_deck.area_m2", "0"],
+    );
+    refused(
+        with("mean_speed_m_s = 0.0\nrecord = \"wind.csv\""),
+        &["wind.record", "wind.csv", "mean_speed_m_s > 0"],
+    );
     // a simply supported span has no preset deck: its coefficients are required
     let span =
         std::fs::read_to_string(tbi_tests::repo_path("master/tests/data/yang-yau.toml")).unwrap();

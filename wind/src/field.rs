@@ -130,7 +130,7 @@ impl Turbulence {
 
 /// The wind along the deck: the mean speed and the turbulence `u`, `w` at the points
 /// `x_m` every `dt_s`, periodic in time (generated) or held at the ends (a record).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WindField {
     /// Mean wind speed U, m/s (towards +y).
     pub mean_speed_m_s: f64,
@@ -288,6 +288,35 @@ impl WindField {
             at(j0) + b * (at(j1) - at(j0))
         };
         [f(&self.u), f(&self.w)]
+    }
+
+    /// The same field at the points `x` (linear between this field's points, their end
+    /// values beyond them), sample by sample.
+    pub fn resample(&self, x: &[f64]) -> WindField {
+        let n = self.n_times();
+        let mut u = vec![vec![0.0; n]; x.len()];
+        let mut w = vec![vec![0.0; n]; x.len()];
+        for (j, &xj) in x.iter().enumerate() {
+            let p = self.x_m.partition_point(|&xi| xi <= xj);
+            let (j0, j1, b) = if p == 0 {
+                (0, 0, 0.0)
+            } else if p >= self.x_m.len() {
+                (self.x_m.len() - 1, self.x_m.len() - 1, 0.0)
+            } else {
+                let (xa, xb) = (self.x_m[p - 1], self.x_m[p]);
+                (p - 1, p, (xj - xa) / (xb - xa))
+            };
+            for i in 0..n {
+                u[j][i] = self.u[j0][i] + b * (self.u[j1][i] - self.u[j0][i]);
+                w[j][i] = self.w[j0][i] + b * (self.w[j1][i] - self.w[j0][i]);
+            }
+        }
+        WindField {
+            x_m: x.to_vec(),
+            u,
+            w,
+            ..self.clone()
+        }
     }
 
     /// The turbulence (u, w) at deck point `j` at the time of `index` ([`Self::time_index`]).

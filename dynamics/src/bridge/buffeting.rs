@@ -19,6 +19,7 @@
 
 use super::ModalBridge;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 use tbi_wind::{Turbulence, WindField};
 
 /// What the buffeting of a deck needs (kept in the modal bridge; the field itself is
@@ -35,8 +36,12 @@ pub struct BuffetingSpec {
     pub coefficients: [f64; 3],
     /// Their slopes (C_D′, C_L′, C_M′) with the angle of attack, per rad.
     pub slopes: [f64; 3],
-    /// The turbulence.
+    /// The turbulence, generated from its seed (unless `record` is given).
     pub turbulence: Turbulence,
+    /// A measured record of the turbulence, used instead of `turbulence` (not serialised:
+    /// the bridge FMU takes the wind at its deck points as inputs).
+    #[serde(skip)]
+    pub record: Option<Arc<WindField>>,
     /// Number of deck points (≥ 2), equally spaced from deck start to end.
     pub points: usize,
     /// Duration the field must cover, s (it repeats beyond).
@@ -97,6 +102,9 @@ impl DeckBuffeting {
 
     /// Check what [`Self::new`] would need, without generating the field.
     pub fn check(bridge: &ModalBridge, spec: &BuffetingSpec) -> Result<(), String> {
+        if spec.record.is_some() {
+            return Ok(());
+        }
         let (x, _) = deck_points(bridge, spec);
         WindField::check(&spec.turbulence, spec.mean_speed_m_s, &x, spec.duration_s)
             .map(drop)
@@ -163,9 +171,13 @@ impl BuffetingSpec {
         ((0..p).map(|j| a + j as f64 * dx).collect(), dx)
     }
 
-    /// The field of this spec at the points `x` (from its seed).
+    /// The field of this spec at the points `x`: the record's there (linear between its
+    /// points), or generated from the seed.
     pub fn generate(&self, x: &[f64]) -> Result<WindField, String> {
-        WindField::generate(&self.turbulence, self.mean_speed_m_s, x, self.duration_s)
-            .map_err(|e| format!("wind.turbulence: {e}"))
+        match &self.record {
+            Some(r) => Ok(r.resample(x)),
+            None => WindField::generate(&self.turbulence, self.mean_speed_m_s, x, self.duration_s)
+                .map_err(|e| format!("wind.turbulence: {e}")),
+        }
     }
 }

@@ -73,6 +73,7 @@ pub fn run(scenario: &Path, solver: &str, out: &Path, extra: &[&str]) -> Run {
 }
 
 /// A scenario given as TOML text, edited as a table.
+#[derive(Clone)]
 pub struct Scenario(pub toml::Table);
 
 impl Scenario {
