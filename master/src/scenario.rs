@@ -1494,19 +1494,21 @@ impl Check<'_> {
         if !(2..=2000).contains(&w.deck_points) {
             return Err(self.err("wind.deck_points", w.deck_points, "must lie in 2..=2000"));
         }
-        if w.record.is_some() && w.turbulence.is_some() {
-            return Err(self.err(
-                "wind.record",
-                w.record.as_ref().expect("checked").display(),
-                "give either turbulence (generated) or record (measured), not both",
-            ));
-        }
-        if w.record.is_some() && w.mean_speed_m_s <= 0.0 {
-            return Err(self.err(
-                "wind.record",
-                w.record.as_ref().expect("checked").display(),
-                "a record of the turbulence needs a mean wind: mean_speed_m_s > 0",
-            ));
+        if let Some(record) = &w.record {
+            if w.turbulence.is_some() {
+                return Err(self.err(
+                    "wind.record",
+                    record.display(),
+                    "give either turbulence (generated) or record (measured), not both",
+                ));
+            }
+            if w.mean_speed_m_s <= 0.0 {
+                return Err(self.err(
+                    "wind.record",
+                    record.display(),
+                    "a record of the turbulence needs a mean wind: mean_speed_m_s > 0",
+                ));
+            }
         }
         if let Some(t) = &w.turbulence {
             t.validate().map_err(|e| match e {
