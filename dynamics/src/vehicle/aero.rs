@@ -9,12 +9,16 @@
 //! lift           F_L = ½ρV² A C_L(β)        (upward)
 //! rolling moment M_R = ½ρV² A h C_MR(β)     (about +x, leeward side down, about the line of
 //!                                            the wheelset reference points under the body)
+//! yawing moment  M_Y = ½ρV² A L C_MY(β)     (about +z, nose leeward, about the body's centre)
+//! pitching mom.  M_P = ½ρV² A L C_MP(β)     (about +y, nose up, about the body's centre)
 //! ```
 //!
 //! the coefficients interpolated linearly in β from a table. On a body whose centre of
 //! gravity is `H` above that line they are the generalised forces `F_S` on its lateral DOF,
-//! `−F_L` on its vertical DOF (z down) and `M_R − H F_S` on its roll DOF (the moment about the
-//! centre of gravity).
+//! `−F_L` on its vertical DOF (z down), `M_R − H F_S` on its roll DOF (the moment about the
+//! centre of gravity), `M_Y` on its yaw and `M_P` on its pitch DOF (bodies that model them).
+//! In static equilibrium the wheelsets at distances `a_i` ahead of the body's centre then
+//! carry `Σ a_i F_y,i = M_Y` and `Σ a_i F_z,i = −M_P` (the nose-up moment unloads the front).
 //!
 //! Constant loads `f` on the vehicle DOFs only shift its static equilibrium, `v_s = K_vv⁻¹ f`,
 //! as gravity does ([`super::assembly`]): with the DOFs measured from that equilibrium the
@@ -46,6 +50,12 @@ pub struct VehicleAero {
     pub lift: Vec<f64>,
     /// Rolling-moment coefficient C_MR(β), –.
     pub roll: Vec<f64>,
+    /// Reference length L of the yawing and pitching moments, m. Default 26 (a coach body).
+    pub length_m: f64,
+    /// Yawing-moment coefficient C_MY(β), –; empty (the default): none.
+    pub yaw: Vec<f64>,
+    /// Pitching-moment coefficient C_MP(β), –; empty (the default): none.
+    pub pitch: Vec<f64>,
 }
 
 impl Default for VehicleAero {
@@ -60,6 +70,9 @@ impl Default for VehicleAero {
             side: vec![0.0, 1.2, 2.6, 3.9, 5.0, 5.9, 6.6, 7.1, 7.4, 7.5],
             lift: vec![0.0, 0.3, 0.7, 1.1, 1.4, 1.7, 1.85, 1.95, 2.0, 2.0],
             roll: vec![0.0, 0.6, 1.3, 1.9, 2.4, 2.9, 3.2, 3.4, 3.55, 3.6],
+            length_m: 26.0,
+            yaw: Vec::new(),
+            pitch: Vec::new(),
         }
     }
 }
@@ -73,6 +86,12 @@ pub struct BodyLoads {
     pub lift_n: f64,
     /// Rolling moment M_R about the wheelset reference line, N·m (leeward side down).
     pub roll_nm: f64,
+    /// Yawing moment M_Y about the body's centre, N·m (nose leeward).
+    #[serde(default)]
+    pub yaw_nm: f64,
+    /// Pitching moment M_P about the body's centre, N·m (nose up).
+    #[serde(default)]
+    pub pitch_nm: f64,
     /// Yaw angle β of the relative wind, degrees.
     pub yaw_deg: f64,
 }
@@ -116,11 +135,23 @@ impl VehicleAero {
                 "angles must lie in [0, 90] degrees".into(),
             ));
         }
+        if !(self.length_m.is_finite() && self.length_m > 0.0) {
+            return Err((
+                "length_m".into(),
+                format!("{} must be positive", self.length_m),
+            ));
+        }
         for (name, v) in [
             ("side", &self.side),
             ("lift", &self.lift),
             ("roll", &self.roll),
+            ("yaw", &self.yaw),
+            ("pitch", &self.pitch),
         ] {
+            let optional = name == "yaw" || name == "pitch";
+            if optional && v.is_empty() {
+                continue;
+            }
             if v.len() != n {
                 return Err((
                     name.into(),
@@ -135,6 +166,9 @@ impl VehicleAero {
     }
 
     fn at(&self, table: &[f64], beta_deg: f64) -> f64 {
+        if table.is_empty() {
+            return 0.0;
+        }
         let b = beta_deg.clamp(self.yaw_deg[0], *self.yaw_deg.last().expect("validated"));
         let k = self
             .yaw_deg
@@ -161,6 +195,8 @@ impl VehicleAero {
             side_n: sign * q * self.at(&self.side, beta),
             lift_n: q * self.at(&self.lift, beta),
             roll_nm: sign * q * self.height_m * self.at(&self.roll, beta),
+            yaw_nm: sign * q * self.length_m * self.at(&self.yaw, beta),
+            pitch_nm: q * self.length_m * self.at(&self.pitch, beta),
             yaw_deg: sign * beta,
         }
     }
@@ -207,12 +243,15 @@ impl LinearVehicle {
     }
 }
 
-/// The car body of a vehicle as the wind loads it: its lateral, vertical and roll DOFs and
-/// the height of its centre of gravity above the wheelset reference line.
+/// The car body of a vehicle as the wind loads it: its lateral, vertical and roll DOFs (and
+/// yaw and pitch where modelled) and the height of its centre of gravity above the wheelset
+/// reference line.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindBody {
     /// DOF indices (lateral, vertical, roll).
     pub dofs: [usize; 3],
+    /// DOF indices of yaw and pitch, if modelled.
+    pub yaw_pitch: [Option<usize>; 2],
     /// Height H of the centre of gravity above the wheelset reference line, m.
     pub cg_height_m: f64,
 }
@@ -225,6 +264,7 @@ impl WindBody {
         match (b.lateral, b.vertical, b.roll) {
             (Some(y), Some(z), Some(r)) => Some(WindBody {
                 dofs: [y, z, r],
+                yaw_pitch: [b.yaw, b.pitch],
                 cg_height_m: b.cg_height_m,
             }),
             _ => None,
@@ -233,12 +273,18 @@ impl WindBody {
 
     /// Add `scale` times the generalised forces of `loads` to `f`: `F_S` on the lateral
     /// DOF, `−F_L` on the vertical one (z down), `M_R − H F_S` on the roll (the moment
-    /// about the centre of gravity).
+    /// about the centre of gravity), `M_Y` and `M_P` on yaw and pitch.
     pub fn add(&self, loads: &BodyLoads, scale: f64, f: &mut DVector<f64>) {
         let [y, z, r] = self.dofs;
         f[y] += scale * loads.side_n;
         f[z] -= scale * loads.lift_n;
         f[r] += scale * (loads.roll_nm - self.cg_height_m * loads.side_n);
+        if let Some(d) = self.yaw_pitch[0] {
+            f[d] += scale * loads.yaw_nm;
+        }
+        if let Some(d) = self.yaw_pitch[1] {
+            f[d] += scale * loads.pitch_nm;
+        }
     }
 }
 
@@ -365,6 +411,58 @@ mod tests {
         for (a, b) in calm.wheelsets.iter().zip(&coach.wheelsets) {
             assert!((a.p0 - b.p0).norm() < 1e-6 * w);
         }
+    }
+
+    /// Yawing and pitching moments: the coach's static rail forces carry them through the
+    /// bogies (Σ a_i F_y,i = M_Y, Σ a_i F_z,i = −M_P with a_i the wheelset's distance ahead
+    /// of the body's centre), while the side force, lift and rolling moment stay balanced.
+    #[test]
+    fn a_coach_carries_the_yawing_and_pitching_moments() {
+        let coach = CoachParams::xia2000().build().unwrap();
+        let aero = VehicleAero {
+            yaw: vec![0.0, 0.3, 0.6, 0.9, 1.1, 1.2, 1.2, 1.1, 0.9, 0.7],
+            pitch: vec![0.0, 0.1, 0.2, 0.3, 0.35, 0.4, 0.4, 0.35, 0.3, 0.25],
+            ..VehicleAero::default()
+        };
+        assert!(aero.validate().is_ok());
+        let loads = aero.loads(200.0 / 3.6, 25.0, 1.225);
+        assert!(loads.yaw_nm > 1e4 && loads.pitch_nm > 1e3, "{loads:?}");
+        let windy = coach.in_crosswind(&loads).unwrap();
+        let centre = windy.wheelsets.iter().map(|w| w.offset_m).sum::<f64>() / 4.0;
+        let moment = |k: usize| {
+            windy
+                .wheelsets
+                .iter()
+                .map(|w| (centre - w.offset_m) * w.p0[k])
+                .sum::<f64>()
+        };
+        let w: f64 = coach.wheelsets.iter().map(|ws| ws.p0.z).sum();
+        let tol = 1e-9 * w * 20.0;
+        assert!(
+            (moment(0) - loads.yaw_nm).abs() < tol,
+            "Σ a F_y {} vs M_Y {}",
+            moment(0),
+            loads.yaw_nm
+        );
+        assert!(
+            (moment(2) + loads.pitch_nm).abs() < tol,
+            "Σ a F_z {} vs −M_P {}",
+            moment(2),
+            -loads.pitch_nm
+        );
+        let sum = |k: usize| windy.wheelsets.iter().map(|ws| ws.p0[k]).sum::<f64>();
+        assert!((sum(0) - loads.side_n).abs() < 1e-9 * w);
+        assert!((sum(1) - loads.roll_nm).abs() < 1e-9 * w);
+        assert!((sum(2) - (w - loads.lift_n)).abs() < 1e-9 * w);
+        // the front bogie carries less than the rear under the nose-up moment
+        assert!(windy.wheelsets[0].p0.z < windy.wheelsets[3].p0.z);
+        // a wind from the other side mirrors the yawing moment, not the pitching one
+        let mirrored = aero.loads(200.0 / 3.6, -25.0, 1.225);
+        assert_eq!(mirrored.yaw_nm, -loads.yaw_nm);
+        assert_eq!(mirrored.pitch_nm, loads.pitch_nm);
+        let mut bad = aero.clone();
+        bad.yaw.pop();
+        assert_eq!(bad.validate().unwrap_err().0, "yaw");
     }
 
     #[test]

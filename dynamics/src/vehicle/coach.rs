@@ -305,6 +305,8 @@ impl CoachParams {
                 lateral: Some(0),
                 vertical: Some(3),
                 roll: Some(1),
+                yaw: Some(2),
+                pitch: Some(4),
                 cg_height_m: p.h1_m + p.h2_m + p.h3_m,
             },
             p.contact_distance_m,

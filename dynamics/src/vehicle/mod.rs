@@ -84,6 +84,12 @@ pub struct BodyDofs {
     /// DOF index of the car-body roll, if modelled (crosswind loads need it).
     #[serde(default)]
     pub roll: Option<usize>,
+    /// DOF index of the car-body yaw ψ (nose right), if modelled.
+    #[serde(default)]
+    pub yaw: Option<usize>,
+    /// DOF index of the car-body pitch φ (nose up), if modelled.
+    #[serde(default)]
+    pub pitch: Option<usize>,
     /// Height of the car body's centre of gravity above the wheelset reference points, m.
     #[serde(default)]
     pub cg_height_m: f64,
