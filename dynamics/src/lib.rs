@@ -26,6 +26,7 @@ pub mod interface;
 pub mod newmark;
 pub mod response;
 pub mod solver;
+pub mod sparse;
 pub mod track;
 pub mod train;
 pub mod vehicle;

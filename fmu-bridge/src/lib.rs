@@ -215,19 +215,17 @@ impl FmuModel for BridgeFmu {
 
     fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
         let l = &self.layout;
-        let name = match l.decode(vr) {
-            Some(BridgeVar::Wheel { w, k }) => l.wheel_in.name(w, k),
-            Some(BridgeVar::Wind { j, k }) => l.wind_in.name(j, k),
-            _ => {
-                return Err(format!(
-                    "value reference {vr} is not an input of the bridge FMU"
-                ))
-            }
-        };
+        let var = l.decode(vr);
         if !value.is_finite() {
+            // named only here: set_real is on the co-simulation's hot path
+            let name = match var {
+                Some(BridgeVar::Wheel { w, k }) => l.wheel_in.name(w, k),
+                Some(BridgeVar::Wind { j, k }) => l.wind_in.name(j, k),
+                _ => format!("value reference {vr}"),
+            };
             return Err(format!("input {name} = {value} is not finite"));
         }
-        match l.decode(vr) {
+        match var {
             Some(BridgeVar::Wheel { w, k }) => *wheel_channel(&mut self.inputs[w], k) = value,
             Some(BridgeVar::Wind { j, k }) => {
                 self.side
@@ -235,7 +233,11 @@ impl FmuModel for BridgeFmu {
                     .as_mut()
                     .expect("a wind input has its deck point")[j][k] = value
             }
-            _ => unreachable!("decoded above"),
+            _ => {
+                return Err(format!(
+                    "value reference {vr} is not an input of the bridge FMU"
+                ))
+            }
         }
         self.dirty = true;
         Ok(())

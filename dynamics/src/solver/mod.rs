@@ -100,13 +100,13 @@ impl VehicleState {
     }
 
     /// Newmark update to the new displacement `v1`.
-    pub fn newmark_update(&mut self, nm: &Newmark, v1: DVector<f64>) {
+    pub fn newmark_update(&mut self, nm: &Newmark, v1: &DVector<f64>) {
         for i in 0..v1.len() {
             let (d, a) = nm.update(v1[i], self.v[i], self.vd[i], self.vdd[i]);
             self.vd[i] = d;
             self.vdd[i] = a;
         }
-        self.v = v1;
+        self.v.copy_from(v1);
     }
 }
 

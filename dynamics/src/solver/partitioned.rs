@@ -16,10 +16,11 @@
 use super::VehicleState;
 use crate::bridge::ModalBridge;
 use crate::newmark::Newmark;
+use crate::sparse::{Csr, SparseCholesky};
 use crate::track::{rail_motion, RailProfile};
 use crate::train::{Train, WheelsetRef};
 use crate::vehicle::LinearVehicle;
-use nalgebra::{Cholesky, DVector, Dyn, Vector3};
+use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
 
@@ -284,7 +285,27 @@ impl BridgeSide {
 #[derive(Debug, Clone)]
 struct Factor {
     h: f64,
-    chol: Option<Cholesky<f64, Dyn>>,
+    chol: Option<SparseCholesky>,
+}
+
+/// A vehicle's constant matrices in sparse rows: C, K and each wheelset's K_vw, C_vw.
+#[derive(Debug, Clone)]
+struct VehicleSparse {
+    c: Csr,
+    k: Csr,
+    kvw: Vec<Csr>,
+    cvw: Vec<Csr>,
+}
+
+impl VehicleSparse {
+    fn of(model: &LinearVehicle) -> Self {
+        VehicleSparse {
+            c: Csr::of(&model.c),
+            k: Csr::of(&model.k),
+            kvw: model.wheelsets.iter().map(|w| Csr::of(&w.k_vw)).collect(),
+            cvw: model.wheelsets.iter().map(|w| Csr::of(&w.c_vw)).collect(),
+        }
+    }
 }
 
 /// The train (see the module docs).
@@ -304,6 +325,8 @@ pub struct TrainSide {
     /// Newmark factors per vehicle (derived from the model and h only; shared by clones,
     /// copied on the rare write).
     factors: Arc<Vec<Factor>>,
+    /// The vehicles' matrices in sparse rows (derived from the model; shared by clones).
+    sparse: Arc<Vec<VehicleSparse>>,
     /// Scratch vectors of a step per vehicle (vₚ, v̇ₚ, a), sized to its DOFs.
     work: Vec<[DVector<f64>; 3]>,
 }
@@ -318,6 +341,7 @@ impl Clone for TrainSide {
             t: self.t,
             body_wind: self.body_wind.clone(),
             factors: self.factors.clone(),
+            sparse: self.sparse.clone(),
             work: self.work.clone(),
         }
     }
@@ -331,6 +355,7 @@ impl Clone for TrainSide {
         self.t = source.t;
         self.body_wind.clone_from(&source.body_wind);
         self.factors.clone_from(&source.factors);
+        self.sparse.clone_from(&source.sparse);
     }
 }
 
@@ -357,6 +382,13 @@ impl TrainSide {
                 train.vehicles.len()
             ]),
             rails: vec![[Vector3::zeros(); 3]; nw],
+            sparse: Arc::new(
+                train
+                    .vehicles
+                    .iter()
+                    .map(|tv| VehicleSparse::of(&tv.model))
+                    .collect(),
+            ),
             work: train
                 .vehicles
                 .iter()
@@ -424,10 +456,11 @@ impl TrainSide {
                     let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
                     Arc::make_mut(&mut self.factors)[i] = Factor {
                         h,
-                        chol: Some(
-                            khat.cholesky()
+                        chol: Some(SparseCholesky::of(
+                            &khat
+                                .cholesky()
                                 .expect("a0 M + a1 C + K is positive definite"),
-                        ),
+                        )),
                     };
                 }
                 // Solved for the new acceleration (see BridgeSide::step):
@@ -443,11 +476,13 @@ impl TrainSide {
                 vp.axpy(0.25 * h * h, &s.vdd, 1.0);
                 vdp.copy_from(&s.vd);
                 vdp.axpy(0.5 * h, &s.vdd, 1.0);
-                a.gemv(-nm.a0, &model.c, vdp, 0.0);
-                a.gemv(-nm.a0, &model.k, vp, 1.0);
-                for (c, r) in model.wheelsets.iter().zip(&self.rails[first..first + nw]) {
-                    a.gemv(-nm.a0, &c.k_vw, &r[0], 1.0);
-                    a.gemv(-nm.a0, &c.c_vw, &r[1], 1.0);
+                let sp = &self.sparse[i];
+                a.fill(0.0);
+                sp.c.mul_add(-nm.a0, vdp.as_slice(), a.as_mut_slice());
+                sp.k.mul_add(-nm.a0, vp.as_slice(), a.as_mut_slice());
+                for (l, r) in self.rails[first..first + nw].iter().enumerate() {
+                    sp.kvw[l].mul_add(-nm.a0, r[0].as_slice(), a.as_mut_slice());
+                    sp.cvw[l].mul_add(-nm.a0, r[1].as_slice(), a.as_mut_slice());
                 }
                 // the wind on the body beyond its static loads, F₁
                 self.train
@@ -456,7 +491,7 @@ impl TrainSide {
                     .chol
                     .as_ref()
                     .expect("factor set above")
-                    .solve_mut(a);
+                    .solve_mut(a.as_mut_slice());
                 s.v.copy_from(vp);
                 s.v.axpy(0.25 * h * h, a, 1.0);
                 s.vd.copy_from(vdp);
