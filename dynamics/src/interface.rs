@@ -239,6 +239,17 @@ impl Block {
             .collect()
     }
 
+    /// A table from value reference to what `decode` makes of it, over the value references
+    /// of `blocks` (a layout's decoding as one load on the FMI hot path).
+    pub fn table<T: Copy>(blocks: &[Block], decode: impl Fn(u32) -> Option<T>) -> Vec<Option<T>> {
+        let end = blocks
+            .iter()
+            .map(|b| b.vr0 + b.len() as u32)
+            .max()
+            .unwrap_or(0);
+        (0..end).map(decode).collect()
+    }
+
     /// The output-buffer slot of `vr` in the first of the output `blocks` that holds it.
     pub fn slot_of(blocks: &[Block], vr: u32) -> Option<usize> {
         blocks

@@ -85,6 +85,8 @@ pub struct BridgeLayout {
     pub probe_out: Block,
     pub wind_in: Block,
     n_outputs: usize,
+    /// `decode` by value reference.
+    table: Vec<Option<BridgeVar>>,
 }
 
 impl BridgeLayout {
@@ -99,13 +101,18 @@ impl BridgeLayout {
         let rail_out = b.output("ws", &RAIL_CHANNELS, n_wheelsets);
         let probe_out = b.output("probe", &PROBE_CHANNELS, n_probes);
         let wind_in = b.input("deck", &WIND_CHANNELS, n_points);
-        BridgeLayout {
+        let mut l = BridgeLayout {
             wheel_in,
             rail_out,
             probe_out,
             wind_in,
             n_outputs: b.n_slots(),
-        }
+            table: Vec::new(),
+        };
+        l.table = Block::table(&[l.wheel_in, l.rail_out, l.probe_out, l.wind_in], |vr| {
+            l.decode_blocks(vr)
+        });
+        l
     }
 
     /// The layout of the FMU with these resources.
@@ -123,7 +130,12 @@ impl BridgeLayout {
         self.n_outputs
     }
 
+    /// The variable of `vr` (one table load).
     pub fn decode(&self, vr: u32) -> Option<BridgeVar> {
+        self.table.get(vr as usize).copied().flatten()
+    }
+
+    fn decode_blocks(&self, vr: u32) -> Option<BridgeVar> {
         if let Some((w, k)) = self.wheel_in.decode(vr) {
             return Some(BridgeVar::Wheel { w, k });
         }

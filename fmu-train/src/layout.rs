@@ -173,6 +173,8 @@ pub struct TrainLayout {
     pub body_x_out: Block,
     pub wind_in: Block,
     n_outputs: usize,
+    /// `decode` by value reference.
+    table: Vec<Option<TrainVar>>,
 }
 
 impl TrainLayout {
@@ -189,14 +191,26 @@ impl TrainLayout {
         let n_bodies = if turbulent { n_vehicles } else { 0 };
         let body_x_out = b.output("veh", &BODY_POSITION_CHANNELS, n_bodies);
         let wind_in = b.input("veh", &BODY_WIND_CHANNELS, n_bodies);
-        TrainLayout {
+        let mut l = TrainLayout {
             rail_in,
             wheel_out,
             vehicle_out,
             body_x_out,
             wind_in,
             n_outputs: b.n_slots(),
-        }
+            table: Vec::new(),
+        };
+        l.table = Block::table(
+            &[
+                l.rail_in,
+                l.wheel_out,
+                l.vehicle_out,
+                l.body_x_out,
+                l.wind_in,
+            ],
+            |vr| l.decode_blocks(vr),
+        );
+        l
     }
 
     /// The layout of the FMU with these resources.
@@ -218,10 +232,15 @@ impl TrainLayout {
         self.n_outputs
     }
 
+    /// The variable of `vr` (one table load).
     pub fn decode(&self, vr: u32) -> Option<TrainVar> {
         if vr >= PARAM_BASE {
             return Some(TrainVar::Parameter((vr - PARAM_BASE) as usize));
         }
+        self.table.get(vr as usize).copied().flatten()
+    }
+
+    fn decode_blocks(&self, vr: u32) -> Option<TrainVar> {
         if let Some((w, k)) = self.rail_in.decode(vr) {
             return Some(TrainVar::Rail { w, k });
         }

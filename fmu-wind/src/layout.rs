@@ -34,6 +34,8 @@ pub struct WindLayout {
     pub deck_out: Block,
     pub body_out: Block,
     n_outputs: usize,
+    /// `decode` by value reference.
+    table: Vec<Option<WindVar>>,
 }
 
 impl WindLayout {
@@ -42,12 +44,17 @@ impl WindLayout {
         let body_in = b.input("veh", &BODY_POSITION_CHANNELS, n_vehicles);
         let deck_out = b.output("deck", &WIND_CHANNELS, n_points);
         let body_out = b.output("veh", &WIND_CHANNELS, n_vehicles);
-        WindLayout {
+        let mut l = WindLayout {
             body_in,
             deck_out,
             body_out,
             n_outputs: b.n_slots(),
-        }
+            table: Vec::new(),
+        };
+        l.table = Block::table(&[l.body_in, l.deck_out, l.body_out], |vr| {
+            l.decode_blocks(vr)
+        });
+        l
     }
 
     /// The layout of the FMU with these resources.
@@ -60,7 +67,12 @@ impl WindLayout {
         self.n_outputs
     }
 
+    /// The variable of `vr` (one table load).
     pub fn decode(&self, vr: u32) -> Option<WindVar> {
+        self.table.get(vr as usize).copied().flatten()
+    }
+
+    fn decode_blocks(&self, vr: u32) -> Option<WindVar> {
         if let Some((i, _)) = self.body_in.decode(vr) {
             return Some(WindVar::Body(i));
         }

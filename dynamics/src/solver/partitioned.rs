@@ -23,6 +23,7 @@ use crate::vehicle::LinearVehicle;
 use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
+use tbi_track::RailIrregularity;
 
 /// The inputs of one wheelset to the bridge.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -195,18 +196,24 @@ impl BridgeSide {
         }
     }
 
-    /// Run `f` with the rail shapes of wheelset slot `w` at `x` (on deck, Ψ).
-    fn with_shapes<R>(&self, w: usize, x: f64, f: impl FnOnce(bool, &[[f64; 3]]) -> R) -> R {
+    /// Run `f` with the rail shapes of wheelset slot `w` at `x` (on deck, Ψ) and the track
+    /// irregularity there.
+    fn with_shapes<R>(
+        &self,
+        w: usize,
+        x: f64,
+        f: impl FnOnce(bool, &[[f64; 3]], &RailIrregularity) -> R,
+    ) -> R {
         let nb = self.omega.len();
         let mut c = self.cache.lock().expect("shape cache");
-        c.get(&self.bridge, nb, w, x, f)
+        c.get(&self.bridge, &*self.track, nb, w, x, f)
     }
 
     /// Generalised forces `Σ Ψ(x_w)ᵀ f_w`.
     fn modal_force(&mut self, inputs: &[WheelInput]) -> Vec<f64> {
         let mut fq = vec![0.0; self.omega.len()];
         for (w, wi) in inputs.iter().enumerate() {
-            self.with_shapes(w, wi.x, |on, psi| {
+            self.with_shapes(w, wi.x, |on, psi, _| {
                 if on {
                     for (o, p) in fq.iter_mut().zip(psi) {
                         *o += p[0] * wi.f[0] + p[1] * wi.f[1] + p[2] * wi.f[2];
@@ -258,9 +265,9 @@ impl BridgeSide {
     /// Rail motion (u, u̇, ü) under wheelset slot `w` at `x`, moving at `vx`: deck plus
     /// irregularity.
     pub fn rail(&mut self, w: usize, x: f64, vx: f64) -> [Vector3<f64>; 3] {
-        let mut r = rail_motion(&self.track.at(x), vx);
         let s = &self.state;
-        self.with_shapes(w, x, |on, psi| {
+        self.with_shapes(w, x, |on, psi, irregularity| {
+            let mut r = rail_motion(irregularity, vx);
             if on {
                 for (n, p) in psi.iter().enumerate() {
                     for k in 0..3 {
@@ -270,8 +277,8 @@ impl BridgeSide {
                     }
                 }
             }
-        });
-        r
+            r
+        })
     }
 
     /// Deck response at `x`.
@@ -514,13 +521,16 @@ impl TrainSide {
     }
 }
 
-/// Rail shapes at the last two positions of each wheelset slot (the positions at the start
-/// and at the end of the current step are what an iterating master asks for).
+/// Rail shapes and track irregularity at the last two positions of each wheelset slot (the
+/// positions at the start and at the end of the current step are what an iterating master
+/// asks for).
 #[derive(Debug, Default)]
 struct ShapeCache {
     /// Per slot: two entries (x bits, on deck, offset into `psi`).
     keys: Vec<[(u64, bool); 2]>,
     psi: Vec<[f64; 3]>,
+    /// Per slot and entry: the irregularity at that position.
+    irregularity: Vec<[RailIrregularity; 2]>,
     next: Vec<usize>,
 }
 
@@ -528,15 +538,18 @@ impl ShapeCache {
     fn get<R>(
         &mut self,
         bridge: &ModalBridge,
+        track: &dyn RailProfile,
         nb: usize,
         w: usize,
         x: f64,
-        f: impl FnOnce(bool, &[[f64; 3]]) -> R,
+        f: impl FnOnce(bool, &[[f64; 3]], &RailIrregularity) -> R,
     ) -> R {
         if self.keys.len() <= w {
             self.keys.resize(w + 1, [(f64::NAN.to_bits(), false); 2]);
             self.next.resize(w + 1, 0);
             self.psi.resize(2 * (w + 1) * nb, [0.0; 3]);
+            self.irregularity
+                .resize(w + 1, [RailIrregularity::default(); 2]);
         }
         let bits = x.to_bits();
         let slot = match self.keys[w].iter().position(|k| k.0 == bits) {
@@ -547,10 +560,15 @@ impl ShapeCache {
                 let range = (2 * w + s) * nb..(2 * w + s + 1) * nb;
                 let on = bridge.rail_shapes(x, &mut self.psi[range]);
                 self.keys[w][s] = (bits, on);
+                self.irregularity[w][s] = track.at(x);
                 s
             }
         };
         let range = (2 * w + slot) * nb..(2 * w + slot + 1) * nb;
-        f(self.keys[w][slot].1, &self.psi[range])
+        f(
+            self.keys[w][slot].1,
+            &self.psi[range],
+            &self.irregularity[w][slot],
+        )
     }
 }
