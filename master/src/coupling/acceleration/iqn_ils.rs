@@ -76,6 +76,13 @@ pub struct IqnIls {
     /// Columns of previous converged steps, newest step first.
     reused: VecDeque<Columns>,
     used_columns: usize,
+    /// Buffers of an update (no allocation per iteration once they have grown): the
+    /// least-squares workspace, the scaled right-hand side, the coefficients and column
+    /// vectors given back by dropped steps.
+    ls: LeastSquares,
+    rhs: Vec<f64>,
+    coefficients: Vec<f64>,
+    spare: Vec<Vec<f64>>,
 }
 
 impl IqnIls {
@@ -91,7 +98,25 @@ impl IqnIls {
             current: Columns::default(),
             reused: VecDeque::new(),
             used_columns: 0,
+            ls: LeastSquares::default(),
+            rhs: Vec::new(),
+            coefficients: Vec::new(),
+            spare: Vec::new(),
         }
+    }
+
+    /// A vector of `n` values from `f`, in a recycled allocation when there is one.
+    fn vector(&mut self, n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
+        let mut v = self.spare.pop().unwrap_or_default();
+        v.clear();
+        v.extend((0..n).map(f));
+        v
+    }
+
+    /// Give the vectors of `c` back for reuse.
+    fn recycle(&mut self, c: Columns) {
+        self.spare.extend(c.v);
+        self.spare.extend(c.w);
     }
 
     /// Relative limit of the QR2 filter (default 1e-4).
@@ -125,35 +150,43 @@ impl Acceleration for IqnIls {
             self.reused.clear();
         }
         self.h = Some(h);
-        self.prev = None;
-        self.current = Columns::default();
+        if let Some((r, t)) = self.prev.take() {
+            self.spare.push(r);
+            self.spare.push(t);
+        }
+        let current = std::mem::take(&mut self.current);
+        self.recycle(current);
     }
 
     fn perform(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64], next: &mut [f64]) {
-        let r: Vec<f64> = x_tilde.iter().zip(x).map(|(&t, &x)| t - x).collect();
+        let n = x.len();
+        let r = self.vector(n, |i| x_tilde[i] - x[i]);
         if let Some((pr, pt)) = self.prev.take() {
-            self.current
-                .v
-                .push(r.iter().zip(&pr).map(|(&a, &b)| a - b).collect());
-            self.current
-                .w
-                .push(x_tilde.iter().zip(&pt).map(|(&a, &b)| a - b).collect());
+            let v = self.vector(n, |i| r[i] - pr[i]);
+            let w = self.vector(n, |i| x_tilde[i] - pt[i]);
+            self.current.v.push(v);
+            self.current.w.push(w);
+            self.spare.push(pr);
+            self.spare.push(pt);
         }
         // Newest first: this step's columns, then those of the previous steps.
-        let columns: Vec<(&Vec<f64>, &Vec<f64>)> = self
+        let columns = self
             .current
             .v
             .iter()
             .zip(&self.current.w)
             .rev()
-            .chain(self.reused.iter().flat_map(|c| c.v.iter().zip(&c.w).rev()))
-            .collect();
-        let scaled: Vec<Vec<f64>> = columns
-            .iter()
-            .map(|(v, _)| v.iter().zip(scale).map(|(&v, &s)| v * s).collect())
-            .collect();
-        let rhs: Vec<f64> = r.iter().zip(scale).map(|(&r, &s)| -r * s).collect();
-        let c = filtered_least_squares(&scaled, &rhs, self.filter_limit);
+            .chain(self.reused.iter().flat_map(|c| c.v.iter().zip(&c.w).rev()));
+        self.rhs.clear();
+        self.rhs.extend(r.iter().zip(scale).map(|(&r, &s)| -r * s));
+        self.ls.solve(
+            columns.clone().map(|(v, _)| v.as_slice()),
+            scale,
+            &self.rhs,
+            self.filter_limit,
+            &mut self.coefficients,
+        );
+        let c = &self.coefficients;
         self.used_columns = c.iter().filter(|&&c| c != 0.0).count();
         if self.used_columns == 0 {
             for ((n, &x), &r) in next.iter_mut().zip(x).zip(&r) {
@@ -161,7 +194,7 @@ impl Acceleration for IqnIls {
             }
         } else {
             next.copy_from_slice(x_tilde);
-            for (&cj, (_, w)) in c.iter().zip(&columns) {
+            for (&cj, (_, w)) in c.iter().zip(columns) {
                 if cj != 0.0 {
                     for (n, &wi) in next.iter_mut().zip(w.iter()) {
                         *n += cj * wi;
@@ -169,15 +202,24 @@ impl Acceleration for IqnIls {
                 }
             }
         }
-        self.prev = Some((r, x_tilde.to_vec()));
+        let t = self.vector(n, |i| x_tilde[i]);
+        self.prev = Some((r, t));
     }
 
     fn end_step(&mut self, converged: bool) {
         let columns = std::mem::take(&mut self.current);
-        self.prev = None;
+        if let Some((r, t)) = self.prev.take() {
+            self.spare.push(r);
+            self.spare.push(t);
+        }
         if converged && self.reuse_steps > 0 && !columns.v.is_empty() {
             self.reused.push_front(columns);
-            self.reused.truncate(self.reuse_steps);
+            while self.reused.len() > self.reuse_steps {
+                let old = self.reused.pop_back().expect("longer than reuse_steps");
+                self.recycle(old);
+            }
+        } else {
+            self.recycle(columns);
         }
     }
 }
@@ -188,54 +230,92 @@ impl Acceleration for IqnIls {
 /// columns kept so far is `≤ limit · ‖aⱼ‖` (or when it is zero or not finite), and at most `n`
 /// columns are kept. Returns `c` with `cⱼ = 0` for dropped columns.
 pub fn filtered_least_squares(columns: &[Vec<f64>], b: &[f64], limit: f64) -> Vec<f64> {
-    let n = b.len();
-    let mut q: Vec<Vec<f64>> = Vec::new();
-    // Column j of R (length j + 1) for each kept column.
-    let mut r: Vec<Vec<f64>> = Vec::new();
-    let mut kept: Vec<usize> = Vec::new();
-    for (j, a) in columns.iter().enumerate() {
-        if kept.len() == n {
-            break;
+    let mut c = Vec::new();
+    let ones = vec![1.0; b.len()];
+    LeastSquares::default().solve(columns.iter().map(Vec::as_slice), &ones, b, limit, &mut c);
+    c
+}
+
+/// The workspace of [`filtered_least_squares`], kept between solves so that they allocate
+/// nothing once it has grown.
+#[derive(Debug, Clone, Default)]
+struct LeastSquares {
+    /// Orthonormal columns kept, and column j of R (length j + 1) for each.
+    q: Vec<Vec<f64>>,
+    r: Vec<Vec<f64>>,
+    kept: Vec<usize>,
+    y: Vec<f64>,
+}
+
+impl LeastSquares {
+    /// [`filtered_least_squares`] of the columns `D aⱼ` (`D = diag(scale)`, applied on the fly)
+    /// into `c`.
+    fn solve<'a>(
+        &mut self,
+        columns: impl Iterator<Item = &'a [f64]>,
+        scale: &[f64],
+        b: &[f64],
+        limit: f64,
+        c: &mut Vec<f64>,
+    ) {
+        let n = b.len();
+        let mut m = 0; // columns kept
+        self.kept.clear();
+        let mut count = 0;
+        for (j, a) in columns.enumerate() {
+            count = j + 1;
+            if m == n {
+                continue;
+            }
+            assert_eq!(a.len(), n, "least-squares column {j} has the wrong length");
+            if self.q.len() <= m {
+                self.q.push(Vec::new());
+                self.r.push(Vec::new());
+            }
+            let (done, rest) = self.q.split_at_mut(m);
+            let v = &mut rest[0];
+            v.clear();
+            v.extend(a.iter().zip(scale).map(|(&a, &s)| a * s));
+            let norm_a = norm(v);
+            if norm_a == 0.0 || !norm_a.is_finite() {
+                continue;
+            }
+            let rj = &mut self.r[m];
+            rj.clear();
+            rj.resize(m + 1, 0.0);
+            for _pass in 0..2 {
+                for (i, qi) in done.iter().enumerate() {
+                    let p = dot(qi, v);
+                    rj[i] += p;
+                    v.iter_mut().zip(qi).for_each(|(v, &qk)| *v -= p * qk);
+                }
+            }
+            let rho = norm(v);
+            if rho <= limit * norm_a {
+                continue;
+            }
+            v.iter_mut().for_each(|v| *v /= rho);
+            rj[m] = rho;
+            self.kept.push(j);
+            m += 1;
         }
-        assert_eq!(a.len(), n, "least-squares column {j} has the wrong length");
-        let norm_a = norm(a);
-        if norm_a == 0.0 || !norm_a.is_finite() {
-            continue;
-        }
-        let mut v = a.clone();
-        let mut rj = vec![0.0; q.len() + 1];
-        for _pass in 0..2 {
-            for (i, qi) in q.iter().enumerate() {
-                let p = dot(qi, &v);
-                rj[i] += p;
-                v.iter_mut().zip(qi).for_each(|(v, &qk)| *v -= p * qk);
+        // R y = Qᵀ b by back substitution (R stored by columns).
+        self.y.clear();
+        self.y.extend(self.q[..m].iter().map(|qi| dot(qi, b)));
+        let y = &mut self.y;
+        for i in (0..m).rev() {
+            y[i] /= self.r[i][i];
+            let yi = y[i];
+            for (k, yk) in y.iter_mut().enumerate().take(i) {
+                *yk -= self.r[i][k] * yi;
             }
         }
-        let rho = norm(&v);
-        if rho <= limit * norm_a {
-            continue;
-        }
-        v.iter_mut().for_each(|v| *v /= rho);
-        rj[q.len()] = rho;
-        q.push(v);
-        r.push(rj);
-        kept.push(j);
-    }
-    // R y = Qᵀ b by back substitution (R stored by columns).
-    let m = kept.len();
-    let mut y: Vec<f64> = q.iter().map(|qi| dot(qi, b)).collect();
-    for i in (0..m).rev() {
-        y[i] /= r[i][i];
-        let yi = y[i];
-        for (k, yk) in y.iter_mut().enumerate().take(i) {
-            *yk -= r[i][k] * yi;
+        c.clear();
+        c.resize(count, 0.0);
+        for (&j, &yj) in self.kept.iter().zip(y.iter()) {
+            c[j] = yj;
         }
     }
-    let mut c = vec![0.0; columns.len()];
-    for (&j, &yj) in kept.iter().zip(&y) {
-        c[j] = yj;
-    }
-    c
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
