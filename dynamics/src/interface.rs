@@ -80,6 +80,10 @@ pub struct WindResources {
     /// A measured record at the deck points, used instead of generating `turbulence`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub record: Option<tbi_wind::WindField>,
+    /// Davenport's admittance `(c, B)` of the deck forces: the deck outputs are the field
+    /// through it ([`crate::bridge::buffeting::admittance_gain`]), the car bodies' the field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub admittance: Option<(f64, f64)>,
 }
 
 /// One scalar channel of a block: its name (after the `.`), unit and description.

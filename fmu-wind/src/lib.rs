@@ -6,7 +6,9 @@
 //! instantiation it generates the field at the deck points, exactly as the monolithic solver
 //! does from the same data. Variables: [`layout`].
 //! At every communication point `t` (after `fmi2DoStep(t − h, h)`) its outputs are the
-//! turbulence (u, w) at each deck point and at each car body's centre `veh[i].x` (its input,
+//! turbulence (u, w) at each deck point (through the deck's admittance when the resources
+//! give one: the turbulence as the deck's forces see it) and at each car body's centre
+//! `veh[i].x` (its input,
 //! from the train FMU): linear between the deck points and in time, the end points' values
 //! beyond the deck. A user may replace it with their own FMU of the same variables (a
 //! measured record, another generator); the bridge and train FMUs apply the forces.
@@ -18,6 +20,7 @@ use std::sync::Arc;
 pub mod layout;
 
 use layout::{WindLayout, WindVar, PARKED_X};
+use tbi_dynamics::bridge::buffeting::admittance_gain;
 use tbi_dynamics::interface::{WindResources, BUILD_ID, WIND_ID, WIND_RESOURCE};
 use tbi_wind::WindField;
 
@@ -31,6 +34,8 @@ pub fn guid_for(resource_bytes: &[u8]) -> String {
 pub struct WindFmu {
     layout: Arc<WindLayout>,
     field: Arc<WindField>,
+    /// The field the deck's forces see (through the admittance, if any).
+    deck_field: Arc<WindField>,
     guid: String,
     /// Current time, s.
     t: f64,
@@ -58,14 +63,16 @@ impl WindFmu {
                 res.mean_speed_m_s
             ));
         }
-        let field = match &res.record {
-            Some(r) if r.x_m == res.points_m => r.clone(),
+        let (field, admitted) = match &res.record {
+            Some(r) if r.x_m == res.points_m => (r.clone(), None),
             Some(_) => return Err("record: its points are not the deck points".into()),
-            None => WindField::generate(
+            None => WindField::generate_pair(
                 &res.turbulence,
                 res.mean_speed_m_s,
                 &res.points_m,
                 res.duration_s,
+                res.admittance
+                    .map(|(c, b)| admittance_gain(c, b, res.mean_speed_m_s)),
             )
             .map_err(|e| format!("turbulence: {e}"))?,
         };
@@ -74,6 +81,7 @@ impl WindFmu {
             x: vec![PARKED_X; res.n_vehicles],
             outputs: vec![0.0; layout.n_outputs()],
             layout: Arc::new(layout),
+            deck_field: Arc::new(admitted.unwrap_or_else(|| field.clone())),
             field: Arc::new(field),
             guid,
             t: 0.0,
@@ -125,9 +133,10 @@ impl WindFmu {
         }
         let l = &self.layout;
         let f = &self.field;
-        let when = f.time_index(self.t);
+        let d = &self.deck_field;
+        let when = d.time_index(self.t);
         for j in 0..l.deck_out.count {
-            let uw = f.at_point(j, when);
+            let uw = d.at_point(j, when);
             self.outputs[l.deck_out.slots(j)].copy_from_slice(&uw);
         }
         for (i, &x) in self.x.iter().enumerate() {

@@ -319,6 +319,7 @@ pub fn export_with(
                 duration_s: spec.duration_s,
                 n_vehicles: model.train_res.spec.n_vehicles(),
                 record: None,
+                admittance: spec.admittance.map(|c| (c, spec.width_m)),
             };
             let res = WindResources {
                 record: spec

@@ -335,6 +335,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
                 slopes: [d.drag_slope, d.lift_slope, d.moment_slope],
                 turbulence: w.turbulence.clone().unwrap_or_default(),
                 record,
+                admittance: d.admittance,
                 points: w.deck_points,
                 duration_s: steps as f64 * s.run.dt_s,
             };

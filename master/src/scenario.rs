@@ -191,6 +191,11 @@ pub struct DeckAero {
     /// Slope C_M′ of the moment coefficient, per rad. Default 0.
     #[serde(default)]
     pub moment_slope: f64,
+    /// Davenport's aerodynamic admittance constant c of the buffeting forces,
+    /// `|χ|² = (2/λ²)(λ − 1 + e^(−λ))`, `λ = c f B / U` (about 7 for a deck; 0 < c ≤ 50);
+    /// default none (the quasi-steady limit, χ = 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub admittance: Option<f64>,
     /// Flutter derivatives against the reduced velocity U/(fB): the self-excited forces,
     /// mode by mode ([`tbi_dynamics::bridge::aeroelastic`]). Default none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -214,6 +219,7 @@ impl DeckAero {
             drag_slope: 0.0,
             lift_slope: 0.0,
             moment_slope: 0.0,
+            admittance: None,
             flutter: None,
         }
     }
@@ -1486,6 +1492,20 @@ impl Check<'_> {
         ] {
             self.finite(name, v)?;
             self.within(name, v, (-20.0, 20.0), "(–)")?;
+        }
+        if let Some(c) = deck.admittance {
+            self.finite("wind.deck.admittance", c)?;
+            self.within("wind.deck.admittance", c, (1e-3, 50.0), "(–)")?;
+            if let Some(record) = &w.record {
+                return Err(self.err(
+                    "wind.deck.admittance",
+                    c,
+                    &format!(
+                        "an admittance applies to the generated turbulence, not to the record {}",
+                        record.display()
+                    ),
+                ));
+            }
         }
         if let Some(t) = &deck.flutter {
             t.validate()

@@ -316,7 +316,8 @@ fn cosim_implicit_matches_monolithic_two_coaches_with_irregularity() {
 
 /// (b′) The same case, on smooth track with 20 modes, in a mean crosswind (`[wind]`, 30 m/s on a 12 m deck with
 /// drag, lift and moment, self-excited damping from flutter derivatives H₁* and A₂*,
-/// buffeting by the default turbulence, and on the car bodies with the
+/// buffeting by the default turbulence through Davenport's admittance, and on the car bodies
+/// (in the turbulence itself) with the
 /// default coefficients): the bridge
 /// starts in its static response, whose midspan lateral and vertical displacements equal the
 /// closed form 5 q L⁴ / (384 E I) of the simply supported span under a uniform load to 1e-3
@@ -333,7 +334,7 @@ fn cosim_implicit_matches_monolithic_in_a_mean_crosswind() {
         .set("bridge", "modes", 20)
         .set("wind", "mean_speed_m_s", 30.0);
     let deck: toml::Table = toml::from_str(
-        "width_m = 12.0\ndrag = 1.5\nlift = 0.3\nmoment = 0.1\n\
+        "width_m = 12.0\ndrag = 1.5\nlift = 0.3\nmoment = 0.1\nadmittance = 7.0\n\
          flutter = { reduced_velocity = [0.5, 5.0], h1 = [-0.5, -3.0], a2 = [-0.05, 0.1] }",
     )
     .unwrap();

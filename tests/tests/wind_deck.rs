@@ -113,6 +113,14 @@ fn bad_wind_input_is_refused_by_name() {
         &["wind.deck_points", "1"],
     );
     refused(
+        with("mean_speed_m_s = 20.0\ndeck = { width_m = 41.0, drag = 0.1, admittance = -7.0 }"),
+        &["wind.deck.admittance", "-7"],
+    );
+    refused(
+        with("mean_speed_m_s = 20.0\nrecord = \"w.csv\"\ndeck = { width_m = 41.0, drag = 0.1, admittance = 7.0 }"),
+        &["wind.deck.admittance", "w.csv"],
+    );
+    refused(
         with("mean_speed_m_s = 20.0\nvehicle_on_deck = { area_m2 = 0.0 }"),
         &["wind.vehicle_on_deck.area_m2", "0"],
     );
@@ -150,9 +158,22 @@ fn bad_wind_input_is_refused_by_name() {
 /// (C_L′ = 3, all else 0), at 50 deck points over 3600 s. The time-domain σ of the midspan
 /// displacement (after 100 s) is within 5 % of the random-vibration integral written here,
 /// σ² = φ(L/2)² ∫ |H(f)|² S_F(f) df with H = 1/(ω₁² − ω² + 2iζω₁ω) and the generalised-force
-/// spectrum S_F = (½ρUB C_L′)² S_w(f) Σ_j Σ_k Δx_j Δx_k φ_j φ_k exp(−C f |x_j − x_k| / U).
+/// spectrum S_F = (½ρUB C_L′)² S_w(f) Σ_j Σ_k Δx_j Δx_k φ_j φ_k exp(−C f |x_j − x_k| / U);
+/// with Davenport's admittance (`admittance = 16`, a strong one so that the cases differ well
+/// beyond the 5 %) the same with S_F times |χ(f)|² = (2/λ²)(λ − 1 + e^(−λ)), λ = 16 f B / U,
+/// written here too.
 #[test]
 fn buffeting_of_a_single_mode_against_the_frequency_domain() {
+    let plain = single_mode_buffeting(None);
+    let admitted = single_mode_buffeting(Some(16.0));
+    assert!(
+        admitted < 0.9 * plain,
+        "σ {admitted} with, {plain} without admittance"
+    );
+}
+
+/// The time-domain σ of the midspan displacement, checked against the frequency domain.
+fn single_mode_buffeting(admittance: Option<f64>) -> f64 {
     let (l, ei, m, zeta): (f64, f64, f64, f64) = (100.0, 3.0e11, 2.0e4, 0.10);
     let (u, b, slope, rho) = (20.0_f64, 10.0, 3.0, 1.225);
     let text = format!(
@@ -180,13 +201,21 @@ x_m = {mid}
 [wind]
 mean_speed_m_s = {u}
 air_density_kg_m3 = {rho}
-deck = {{ width_m = {b}, drag = 0.0, lift_slope = {slope} }}
+deck = {{ width_m = {b}, drag = 0.0, lift_slope = {slope}{extra} }}
 deck_points = 50
 turbulence = {{ spectrum = "von-karman", intensity_u = 0.0, intensity_w = 0.1, length_scale_w_m = 30.0, coherence_w = 8.0, dt_s = 0.05, seed = 3 }}
 "#,
-        mid = l / 2.0
+        mid = l / 2.0,
+        extra = admittance.map_or(String::new(), |c| format!(", admittance = {c}"))
     );
-    let (s, h) = run_text(&text, "buffeting");
+    let (s, h) = run_text(
+        &text,
+        if admittance.is_some() {
+            "buffeting-admittance"
+        } else {
+            "buffeting"
+        },
+    );
     let t = h.column("time_s");
     let y: Vec<f64> = h
         .column("mid.vertical_displacement_m")
@@ -228,15 +257,22 @@ turbulence = {{ spectrum = "von-karman", intensity_u = 0.0, intensity_w = 0.1, l
             }
         }
         let sw = turb.psd(tbi_wind::Component::W, f, u);
+        let chi2 = admittance.map_or(1.0, |c| {
+            let lambda = c * f * b / u;
+            2.0 / (lambda * lambda) * (lambda - 1.0 + (-lambda).exp())
+        });
         let wgt = if i == 0 || i == nf { 0.5 } else { 1.0 };
-        var += wgt * df * h2 * gain * gain * sw * sum;
+        var += wgt * df * h2 * gain * gain * chi2 * sw * sum;
     }
     let reference = phi(l / 2.0).abs() * var.sqrt();
-    eprintln!("buffeting: time-domain σ {sigma} m, frequency domain {reference} m");
+    eprintln!(
+        "buffeting (admittance {admittance:?}): time-domain σ {sigma} m, frequency domain {reference} m"
+    );
     assert!(
         (sigma / reference - 1.0).abs() < 0.05,
-        "time-domain σ {sigma} m vs frequency domain {reference} m"
+        "admittance {admittance:?}: time-domain σ {sigma} m vs frequency domain {reference} m"
     );
+    sigma
 }
 
 /// Self-excited forces: the free decay of the one vertical mode of a light 30 m span after a

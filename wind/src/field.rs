@@ -170,12 +170,36 @@ impl WindField {
         x_m: &[f64],
         duration_s: f64,
     ) -> Result<WindField, WindError> {
+        Self::generate_pair(
+            turbulence,
+            mean_speed_m_s,
+            x_m,
+            duration_s,
+            None::<fn(f64) -> f64>,
+        )
+        .map(|(raw, _)| raw)
+    }
+
+    /// As [`Self::generate`], and with `gain` also the same field with every harmonic's
+    /// amplitude multiplied by `gain(f)` (a zero-phase filter, e.g. an aerodynamic
+    /// admittance `|χ(f)|`), from the same phases.
+    pub fn generate_pair(
+        turbulence: &Turbulence,
+        mean_speed_m_s: f64,
+        x_m: &[f64],
+        duration_s: f64,
+        gain: Option<impl Fn(f64) -> f64>,
+    ) -> Result<(WindField, Option<WindField>), WindError> {
         let n = Self::check(turbulence, mean_speed_m_s, x_m, duration_s)?;
         let dt = turbulence.dt_s;
         let df = 1.0 / (n as f64 * dt);
         let bins = n / 2 - 1;
         let ifft = FftPlanner::<f64>::new().plan_fft_inverse(n);
         let mut out = [Vec::new(), Vec::new()];
+        let mut filtered = [Vec::new(), Vec::new()];
+        let gains: Option<Vec<f64>> = gain
+            .as_ref()
+            .map(|g| (1..=bins).map(|k| g(k as f64 * df)).collect());
         for (ci, c) in Component::ALL.into_iter().enumerate() {
             let amp: Vec<f64> = (1..=bins)
                 .map(|k| (2.0 * turbulence.psd(c, k as f64 * df, mean_speed_m_s) * df).sqrt())
@@ -204,11 +228,18 @@ impl WindField {
                 }
                 ifft.process(&mut buf);
                 series.push(buf.iter().map(|z| z.re).collect::<Vec<f64>>());
+                if let Some(g) = &gains {
+                    buf.iter_mut().for_each(|b| *b = Complex::new(0.0, 0.0));
+                    for k in 0..bins {
+                        buf[k + 1] = Complex::from_polar(amp[k] * g[k], phase[k]);
+                    }
+                    ifft.process(&mut buf);
+                    filtered[ci].push(buf.iter().map(|z| z.re).collect::<Vec<f64>>());
+                }
             }
             out[ci] = series;
         }
-        let [u, w] = out;
-        Ok(WindField {
+        let field = |[u, w]: [Vec<Vec<f64>>; 2]| WindField {
             mean_speed_m_s,
             x_m: x_m.to_vec(),
             t0_s: 0.0,
@@ -216,7 +247,9 @@ impl WindField {
             u,
             w,
             periodic: true,
-        })
+        };
+        let with_gain = gains.is_some().then(|| field(filtered));
+        Ok((field(out), with_gain))
     }
 
     /// Everything [`Self::generate`] checks, without generating: the number of samples in

@@ -11,7 +11,11 @@
 //! moment (leeward side down) M_b = ½ρU²B² [2 C_M u/U + C_M′ w/U]
 //! ```
 //!
-//! (no aerodynamic admittance: the quasi-steady limit). The deck points `x_j` are equally
+//! in the quasi-steady limit, or with Davenport's aerodynamic admittance
+//! `|χ(f)|² = (2/λ²)(λ − 1 + e^(−λ))`, `λ = c f B / U` (`admittance = c`, about 7 for a
+//! bridge deck), which weighs down the turbulence that is short against the deck's width:
+//! the forces then see the field with every harmonic's amplitude times `|χ(f)|` (generated
+//! from the same phases; the car bodies still see the field itself). The deck points `x_j` are equally
 //! spaced over the deck with trapezoidal weights `Δx_j`; the generalised force of mode n is
 //! `Fₙ(t) = Σ_j Δx_j (φ_h D_b − φ_v L_b + φ_θ M_b)(x_j, t)` (z down: lift enters with −).
 //! The field is generated from its seed when a solver starts ([`DeckBuffeting::new`]), so the
@@ -44,6 +48,9 @@ pub struct BuffetingSpec {
     pub record: Option<Arc<WindField>>,
     /// Number of deck points (≥ 2), equally spaced from deck start to end.
     pub points: usize,
+    /// Davenport's admittance constant c (None: the quasi-steady limit, χ = 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub admittance: Option<f64>,
     /// Duration the field must cover, s (it repeats beyond).
     pub duration_s: f64,
 }
@@ -54,6 +61,8 @@ pub struct DeckBuffeting {
     /// The field at the deck points; None when the wind comes from outside (the bridge FMU's
     /// inputs, [`Self::add_modal_force_from`]).
     field: Option<WindField>,
+    /// The same field through the admittance, which the forces see (None: the field itself).
+    admitted: Option<WindField>,
     /// The deck points, m.
     x_m: Vec<f64>,
     /// Per point: Δx_j times the shapes (lateral, vertical, torsion) of every mode, point-major.
@@ -68,7 +77,9 @@ impl DeckBuffeting {
     /// Generate the field at the deck points and tabulate the weighted shapes.
     pub fn new(bridge: &ModalBridge, spec: &BuffetingSpec) -> Result<DeckBuffeting, String> {
         let mut b = Self::without_field(bridge, spec);
-        b.field = Some(spec.generate(&b.x_m)?);
+        let (field, admitted) = spec.generate_pair(&b.x_m)?;
+        b.field = Some(field);
+        b.admitted = admitted;
         Ok(b)
     }
 
@@ -92,6 +103,7 @@ impl DeckBuffeting {
         }
         DeckBuffeting {
             field: None,
+            admitted: None,
             x_m: x,
             weighted_shapes,
             n_modes: n,
@@ -124,7 +136,7 @@ impl DeckBuffeting {
     /// Add the generalised buffeting forces at time `t` to `out` (one per mode); nothing
     /// without a field.
     pub fn add_modal_force(&self, t: f64, out: &mut [f64]) {
-        if let Some(f) = &self.field {
+        if let Some(f) = self.admitted.as_ref().or(self.field.as_ref()) {
             let when = f.time_index(t);
             self.add_forces(|j| f.at_point(j, when), out);
         }
@@ -174,10 +186,36 @@ impl BuffetingSpec {
     /// The field of this spec at the points `x`: the record's there (linear between its
     /// points), or generated from the seed.
     pub fn generate(&self, x: &[f64]) -> Result<WindField, String> {
+        self.generate_pair(x).map(|(f, _)| f)
+    }
+
+    /// [`Self::generate`], and the field through the admittance when there is one (generated
+    /// fields only: a record has no admittance).
+    pub fn generate_pair(&self, x: &[f64]) -> Result<(WindField, Option<WindField>), String> {
         match &self.record {
-            Some(r) => Ok(r.resample(x)),
-            None => WindField::generate(&self.turbulence, self.mean_speed_m_s, x, self.duration_s)
-                .map_err(|e| format!("wind.turbulence: {e}")),
+            Some(r) => Ok((r.resample(x), None)),
+            None => WindField::generate_pair(
+                &self.turbulence,
+                self.mean_speed_m_s,
+                x,
+                self.duration_s,
+                self.admittance
+                    .map(|c| admittance_gain(c, self.width_m, self.mean_speed_m_s)),
+            )
+            .map_err(|e| format!("wind.turbulence: {e}")),
+        }
+    }
+}
+
+/// Davenport's admittance `|χ(f)| = √((2/λ²)(λ − 1 + e^(−λ)))`, `λ = c f B / U`.
+pub fn admittance_gain(c: f64, width_m: f64, mean_speed_m_s: f64) -> impl Fn(f64) -> f64 {
+    move |f: f64| {
+        let l = c * f * width_m / mean_speed_m_s;
+        if l < 1e-4 {
+            // the series 1 − λ/3 + λ²/12 (the closed form loses digits here)
+            (1.0 - l / 3.0 + l * l / 12.0).sqrt()
+        } else {
+            (2.0 / (l * l) * (l - 1.0 + (-l).exp())).sqrt()
         }
     }
 }
