@@ -476,16 +476,10 @@ impl TrainResources {
         let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
         let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
         let speed_m_s = self.speed_m_s.m_s();
-        let mut train = Train {
-            vehicles: Vec::new(),
-            speed_m_s,
-            x0_m: self.x0_m - speed_m_s * start_time,
-            hunting,
-            wind: None,
-        };
+        let mut wind = None;
         if let Some(w) = &self.crosswind {
             use crate::vehicle::aero::{TrainWind, WindBody};
-            let mut wind = TrainWind {
+            let mut tw = TrainWind {
                 mean_speed_m_s: w.mean_speed_m_s,
                 air_density_kg_m3: w.air_density_kg_m3,
                 speed_m_s,
@@ -494,16 +488,16 @@ impl TrainResources {
                 deck_m: w.deck_m,
                 bodies: Vec::new(),
             };
-            train.vehicles = vehicles.clone();
             // vehicles sharing a model and starting on the same kind of ground (the coaches
             // of a train) share its windy model
             let mut done: Vec<(*const LinearVehicle, bool, Arc<LinearVehicle>)> = Vec::new();
-            for (i, v) in vehicles.iter_mut().enumerate() {
-                let offset = train.centre_offset_m(i);
-                let x = train.x_at(offset, start_time);
-                let loads = wind.loads_at(x, 0.0);
-                let key = (Arc::as_ptr(&v.model), wind.on_deck(x));
-                wind.bodies
+            for v in &mut vehicles {
+                let offset = v.centre_offset_m();
+                // the body's centre at the start time
+                let x = self.x0_m - offset;
+                let loads = tw.loads_at(x, 0.0);
+                let key = (Arc::as_ptr(&v.model), tw.on_deck(x));
+                tw.bodies
                     .push(WindBody::of(&v.model).map(|b| (b, offset, loads)));
                 v.model = match done.iter().find(|(k, d, _)| (*k, *d) == key) {
                     Some((_, _, m)) => m.clone(),
@@ -514,12 +508,17 @@ impl TrainResources {
                     }
                 };
             }
-            if wind.bodies.iter().any(Option::is_some) {
-                train.wind = Some(Arc::new(wind));
+            if tw.bodies.iter().any(Option::is_some) {
+                wind = Some(Arc::new(tw));
             }
         }
-        train.vehicles = vehicles;
-        Ok(train)
+        Ok(Train {
+            vehicles,
+            speed_m_s,
+            x0_m: self.x0_m - speed_m_s * start_time,
+            hunting,
+            wind,
+        })
     }
 }
 

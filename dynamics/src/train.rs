@@ -60,6 +60,15 @@ pub struct TrainVehicle {
     pub offset_m: f64,
 }
 
+impl TrainVehicle {
+    /// Distance of this vehicle's centre (the mean of its wheelsets) behind the train's first
+    /// axle, m.
+    pub fn centre_offset_m(&self) -> f64 {
+        let n = self.model.wheelsets.len().max(1) as f64;
+        self.offset_m + self.model.wheelsets.iter().map(|w| w.offset_m).sum::<f64>() / n
+    }
+}
+
 /// A train (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Train {
@@ -121,9 +130,13 @@ impl Train {
 
     /// Distance of vehicle `i`'s centre (the mean of its wheelsets) behind the first axle, m.
     pub fn centre_offset_m(&self, i: usize) -> f64 {
-        let tv = &self.vehicles[i];
-        let n = tv.model.wheelsets.len().max(1) as f64;
-        tv.offset_m + tv.model.wheelsets.iter().map(|w| w.offset_m).sum::<f64>() / n
+        self.vehicles[i].centre_offset_m()
+    }
+
+    /// Position at time `t` of the centre of vehicle `i`'s car body, if the wind loads it, m.
+    pub fn wind_body_x(&self, i: usize, t: f64) -> Option<f64> {
+        let body = self.wind.as_ref()?.bodies[i].as_ref()?;
+        Some(self.x_at(body.1, t))
     }
 
     /// Add `scale` times the wind force on vehicle `i` beyond its static loads at time `t`
@@ -137,9 +150,17 @@ impl Train {
         scale: f64,
         f: &mut nalgebra::DVector<f64>,
     ) {
-        if let Some(w) = &self.wind {
-            let x = self.x_at(self.centre_offset_m(i), t);
+        if let (Some(w), Some(x)) = (&self.wind, self.wind_body_x(i, t)) {
             w.add_force(i, x, u, scale, f);
         }
+    }
+
+    /// The wind force on vehicle `i` beyond its static loads at time `t` in the turbulence
+    /// `u` (one per DOF), for an initial acceleration; None in still air.
+    pub fn wind_force(&self, i: usize, t: f64, u: f64) -> Option<nalgebra::DVector<f64>> {
+        self.wind.as_ref()?;
+        let mut f = nalgebra::DVector::zeros(self.vehicles[i].model.ndof());
+        self.add_wind_force(i, t, u, 1.0, &mut f);
+        Some(f)
     }
 }

@@ -221,7 +221,7 @@ impl TrainFmu {
         }
         if !self.initialized {
             let mut side = self.build_side()?;
-            self.pass_wind(&mut side);
+            pass_wind(&self.wind, &mut side);
             side.initialize(self.start_time, &self.rails);
             self.side = Some(side);
         }
@@ -268,13 +268,6 @@ impl TrainFmu {
         Ok(())
     }
 
-    /// The turbulence inputs into the side (the wind at the end of the coming step).
-    fn pass_wind(&self, side: &mut TrainSide) {
-        if !self.wind.is_empty() {
-            side.body_wind.copy_from_slice(&self.wind);
-        }
-    }
-
     fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), String> {
         let list = parameters(&self.res);
         let name = &list
@@ -318,6 +311,14 @@ impl TrainFmu {
     }
 }
 
+/// The turbulence inputs of the car bodies into the side (the wind at the end of the coming
+/// step); nothing in a steady wind.
+fn pass_wind(wind: &[f64], side: &mut TrainSide) {
+    if !wind.is_empty() {
+        side.body_wind.copy_from_slice(wind);
+    }
+}
+
 impl FmuModel for TrainFmu {
     fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
         let path = resources.join(TRAIN_RESOURCE);
@@ -343,7 +344,7 @@ impl FmuModel for TrainFmu {
 
     fn exit_initialization(&mut self) -> Result<(), String> {
         let mut side = self.build_side()?;
-        self.pass_wind(&mut side);
+        pass_wind(&self.wind, &mut side);
         side.initialize(self.start_time, &self.rails);
         self.side = Some(side);
         self.initialized = true;
@@ -393,11 +394,9 @@ impl FmuModel for TrainFmu {
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
-        let mut side = self.side.take().ok_or("not initialised")?;
-        self.pass_wind(&mut side);
+        let side = self.side.as_mut().ok_or("not initialised")?;
+        pass_wind(&self.wind, side);
         side.step(h, &self.rails);
-        self.side = Some(side);
-        let side = self.side.as_ref().expect("put back above");
         if !side
             .states
             .iter()

@@ -157,12 +157,8 @@ impl Monolithic {
             .enumerate()
             .map(|(i, tv)| {
                 let f = s.first_ws[i];
-                let wind = s.train.wind.as_ref().map(|_| {
-                    let mut f = DVector::zeros(tv.model.ndof());
-                    let u = body_turbulence(&s.buffeting, &s.train, i, 0.0);
-                    s.train.add_wind_force(i, 0.0, u, 1.0, &mut f);
-                    f
-                });
+                let u = body_turbulence(&s.buffeting, &s.train, i, 0.0);
+                let wind = s.train.wind_force(i, 0.0, u);
                 VehicleState::initial_loaded(
                     &tv.model,
                     &s.rail[f..f + tv.model.wheelsets.len()],
@@ -554,18 +550,22 @@ impl Monolithic {
     }
 }
 
-/// The along-wind turbulence at vehicle `i`'s centre at time `t`: the deck's wind field
-/// there (its end values beyond the deck), or 0 in a steady wind.
+/// The along-wind turbulence at vehicle `i`'s car body at time `t`: the deck's wind field
+/// there (its end values beyond the deck), or 0 in a steady wind or for a vehicle the wind
+/// does not load.
 fn body_turbulence(
     buffeting: &Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
     train: &Train,
     i: usize,
     t: f64,
 ) -> f64 {
-    buffeting.as_ref().map_or(0.0, |b| {
-        b.field()
-            .map_or(0.0, |f| f.at(train.x_at(train.centre_offset_m(i), t), t)[0])
-    })
+    match (
+        buffeting.as_ref().and_then(|b| b.field()),
+        train.wind_body_x(i, t),
+    ) {
+        (Some(f), Some(x)) => f.at(x, t)[0],
+        _ => 0.0,
+    }
 }
 
 /// Iterations of the conjugate-gradient path before the direct solver takes over.

@@ -173,17 +173,13 @@ impl BridgeSide {
     }
 
     /// Take the deck's turbulence from [`Self::deck_wind`] (set before each step) instead of
-    /// generating it: the bridge FMU coupled to a wind FMU. Returns the number of deck points
-    /// (0 without buffeting).
-    pub fn take_wind_from_inputs(&mut self) -> usize {
-        let Some(spec) = &self.bridge.buffeting else {
-            return 0;
-        };
-        let b = crate::bridge::buffeting::DeckBuffeting::without_field(&self.bridge, spec);
-        let n = b.points().len();
-        self.buffeting = Some(Arc::new(b));
-        self.deck_wind = Some(vec![[0.0; 2]; n]);
-        n
+    /// generating it: the bridge FMU coupled to a wind FMU (nothing without buffeting).
+    pub fn take_wind_from_inputs(&mut self) {
+        if let Some(spec) = &self.bridge.buffeting {
+            let b = crate::bridge::buffeting::DeckBuffeting::without_field(&self.bridge, spec);
+            self.deck_wind = Some(vec![[0.0; 2]; b.points().len()]);
+            self.buffeting = Some(Arc::new(b));
+        }
     }
 
     /// Add the buffeting forces at time `t` to `fq`.
@@ -435,12 +431,7 @@ impl TrainSide {
         let mut first = 0;
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let nw = tv.model.wheelsets.len();
-            let f = self.train.wind.as_ref().map(|_| {
-                let mut f = DVector::zeros(tv.model.ndof());
-                self.train
-                    .add_wind_force(i, t, self.body_wind[i], 1.0, &mut f);
-                f
-            });
+            let f = self.train.wind_force(i, t, self.body_wind[i]);
             self.states[i] =
                 VehicleState::initial_loaded(&tv.model, &self.rails[first..first + nw], f.as_ref());
             first += nw;

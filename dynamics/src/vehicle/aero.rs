@@ -346,11 +346,6 @@ impl TrainWind {
             body.add(reference, -scale, f);
         }
     }
-
-    /// Whether vehicle `i` feels the wind.
-    pub fn loads_vehicle(&self, i: usize) -> bool {
-        self.bodies[i].is_some()
-    }
 }
 
 #[cfg(test)]
