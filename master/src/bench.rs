@@ -79,7 +79,7 @@ x_m = 1000.0
 scheme = "implicit"
 acceleration = "iqn-ils"
 relaxation = 1.0
-reuse_steps = 2
+reuse_steps = 8
 atol = 1e-8
 "#;
 

@@ -36,11 +36,22 @@
 //!
 //! # Least squares and filtering
 //!
-//! `D V` is factorised `Q R` by modified Gram–Schmidt with one reorthogonalisation pass,
-//! column by column, newest first. A column whose part orthogonal to the columns already
-//! accepted has norm `≤ filter_limit · ‖column‖` (preCICE's QR2 filter) is dropped for this
-//! solve, which removes (nearly) linearly dependent, typically older, information. At most `n`
-//! columns are kept. Then `R c = −Qᵀ D rₖ` is solved by back substitution.
+//! The columns are kept newest first together with their scaled inner products
+//! `Gₚ_q = (D vₚ)ᵀ(D v_q)`: a new column costs one pass over the columns already kept, and a
+//! column leaving the window costs nothing. The least squares are solved by the normal equations
+//! `Gc = −(D V)ᵀ D rₖ` through a Cholesky factorisation taken column by column, newest first,
+//! which drops column `j` when its pivot (the squared norm of its part orthogonal to the
+//! columns accepted so far) is `≤ filter_limit² · ‖D vⱼ‖²`: the QR2 filter of preCICE, which
+//! removes (nearly) linearly dependent, typically older, information. At most `n` columns are
+//! kept. An update therefore costs `O(m n + m³)` for `m` columns instead of the `O(m² n)` of a
+//! QR factorisation repeated in every iteration, so that reusing many steps pays. When the
+//! scaling `D` changes (a block reaches a new largest magnitude) the inner products are
+//! recomputed once.
+//!
+//! The normal equations square the condition of `D V`; the filter bounds it, and the pivots are
+//! resolved to a relative accuracy of about `ε / filter_limit²` (1e-8 at the default limit),
+//! so limits below 1e-6 are raised to 1e-6. The update's accuracy affects only how fast the
+//! iteration converges, never the fixed point it converges to.
 //!
 //! The default limit 1e-4 sits above the relative round-off of difference columns formed near
 //! convergence (machine ε / rtol ≈ 1e-6 for rtol = 1e-10), so directions that are pure noise
@@ -54,13 +65,131 @@
 
 use std::collections::VecDeque;
 
-use super::Acceleration;
+use super::{scaled_dot, Acceleration};
 
-/// The columns of one time step, oldest first.
+/// Smallest effective filter limit of the normal equations (see the module documentation).
+const MIN_FILTER_LIMIT: f64 = 1e-6;
+
+/// One secant pair with its inner products.
 #[derive(Debug, Clone, Default)]
-struct Columns {
-    v: Vec<Vec<f64>>,
-    w: Vec<Vec<f64>>,
+struct Column {
+    v: Vec<f64>,
+    w: Vec<f64>,
+    /// `(D v)ᵀ(D v)`.
+    norm2: f64,
+    /// `(D v)ᵀ(D v_q)` with the columns older than this one, nearest first.
+    dots: Vec<f64>,
+}
+
+/// The secant columns of the current step and of the reused steps, newest first.
+#[derive(Debug, Clone, Default)]
+struct Window {
+    columns: VecDeque<Column>,
+    /// Columns per step, newest step first; the first entry is the current step's.
+    per_step: VecDeque<usize>,
+    /// The scaling the inner products were taken with.
+    scale: Vec<f64>,
+    /// Whether the newest entry of `per_step` is the current, unfinished step.
+    open: bool,
+    /// Vectors of dropped columns, reused for new ones.
+    spare: Vec<Vec<f64>>,
+}
+
+impl Window {
+    fn clear(&mut self) {
+        while let Some(c) = self.columns.pop_front() {
+            self.recycle(c);
+        }
+        self.per_step.clear();
+        self.open = false;
+    }
+
+    fn recycle(&mut self, c: Column) {
+        self.spare.push(c.v);
+        self.spare.push(c.w);
+        self.spare.push(c.dots);
+    }
+
+    fn vector(&mut self) -> Vec<f64> {
+        let mut v = self.spare.pop().unwrap_or_default();
+        v.clear();
+        v
+    }
+
+    /// Starts a new (current) step with no columns.
+    fn open_step(&mut self) {
+        self.per_step.push_front(0);
+        self.open = true;
+    }
+
+    /// Drops the current step's columns, if a step is open.
+    fn drop_current(&mut self) {
+        if !std::mem::take(&mut self.open) {
+            return;
+        }
+        let k = self.per_step.pop_front().expect("a step is open");
+        for _ in 0..k {
+            let c = self.columns.pop_front().expect("counted");
+            self.recycle(c);
+        }
+    }
+
+    /// Keeps the current step's columns (if any) and at most `keep` steps in all.
+    fn close_step(&mut self, keep: usize) {
+        if std::mem::take(&mut self.open) && self.per_step.front() == Some(&0) {
+            self.per_step.pop_front();
+        }
+        while self.per_step.len() > keep {
+            let k = self.per_step.pop_back().expect("longer than keep");
+            for _ in 0..k {
+                let c = self.columns.pop_back().expect("counted");
+                self.recycle(c);
+            }
+        }
+        let len = self.columns.len();
+        for (p, c) in self.columns.iter_mut().enumerate() {
+            c.dots.truncate(len - 1 - p);
+        }
+    }
+
+    /// Inner products under `scale`, recomputed when it differs from the one they were taken
+    /// with.
+    fn rescale(&mut self, scale: &[f64]) {
+        if self.scale.as_slice() == scale {
+            return;
+        }
+        self.scale.clear();
+        self.scale.extend_from_slice(scale);
+        let cols: Vec<&Vec<f64>> = self.columns.iter().map(|c| &c.v).collect();
+        let fresh: Vec<(f64, Vec<f64>)> = (0..cols.len())
+            .map(|p| {
+                let dots = cols[p + 1..]
+                    .iter()
+                    .map(|q| scaled_dot(cols[p], q, scale))
+                    .collect();
+                (scaled_dot(cols[p], cols[p], scale), dots)
+            })
+            .collect();
+        for (c, (norm2, dots)) in self.columns.iter_mut().zip(fresh) {
+            c.norm2 = norm2;
+            c.dots = dots;
+        }
+    }
+
+    /// Adds the newest column `(v, w)` of the current step (`scale` as in [`Window::rescale`]).
+    fn push(&mut self, v: Vec<f64>, w: Vec<f64>, scale: &[f64]) {
+        self.rescale(scale);
+        let mut dots = self.vector();
+        dots.extend(self.columns.iter().map(|c| scaled_dot(&v, &c.v, scale)));
+        let norm2 = scaled_dot(&v, &v, scale);
+        self.columns.push_front(Column { v, w, norm2, dots });
+        *self.per_step.front_mut().expect("a step is open") += 1;
+    }
+
+    /// `Gₚ_q` for `p < q`.
+    fn gram(&self, p: usize, q: usize) -> f64 {
+        self.columns[p].dots[q - p - 1]
+    }
 }
 
 /// IQN-ILS quasi-Newton acceleration.
@@ -72,17 +201,12 @@ pub struct IqnIls {
     h: Option<f64>,
     /// `(rₖ, x̃ₖ)` of the previous iteration of the current step.
     prev: Option<(Vec<f64>, Vec<f64>)>,
-    current: Columns,
-    /// Columns of previous converged steps, newest step first.
-    reused: VecDeque<Columns>,
+    window: Window,
     used_columns: usize,
-    /// Buffers of an update (no allocation per iteration once they have grown): the
-    /// least-squares workspace, the scaled right-hand side, the coefficients and column
-    /// vectors given back by dropped steps.
-    ls: LeastSquares,
+    /// Buffers of an update (no allocation per iteration once they have grown).
+    ls: Cholesky,
     rhs: Vec<f64>,
     coefficients: Vec<f64>,
-    spare: Vec<Vec<f64>>,
 }
 
 impl IqnIls {
@@ -95,31 +219,29 @@ impl IqnIls {
             filter_limit: 1e-4,
             h: None,
             prev: None,
-            current: Columns::default(),
-            reused: VecDeque::new(),
+            window: Window::default(),
             used_columns: 0,
-            ls: LeastSquares::default(),
+            ls: Cholesky::default(),
             rhs: Vec::new(),
             coefficients: Vec::new(),
-            spare: Vec::new(),
         }
     }
 
     /// A vector of `n` values from `f`, in a recycled allocation when there is one.
     fn vector(&mut self, n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
-        let mut v = self.spare.pop().unwrap_or_default();
-        v.clear();
+        let mut v = self.window.vector();
         v.extend((0..n).map(f));
         v
     }
 
-    /// Give the vectors of `c` back for reuse.
-    fn recycle(&mut self, c: Columns) {
-        self.spare.extend(c.v);
-        self.spare.extend(c.w);
+    fn forget_previous(&mut self) {
+        if let Some((r, t)) = self.prev.take() {
+            self.window.spare.push(r);
+            self.window.spare.push(t);
+        }
     }
 
-    /// Relative limit of the QR2 filter (default 1e-4).
+    /// Relative limit of the QR2 filter (default 1e-4; at least 1e-6).
     pub fn with_filter_limit(mut self, limit: f64) -> Self {
         self.filter_limit = limit;
         self
@@ -138,24 +260,21 @@ impl Acceleration for IqnIls {
 
     fn initialize(&mut self, _n: usize) {
         self.h = None;
-        self.prev = None;
-        self.current = Columns::default();
-        self.reused.clear();
+        self.forget_previous();
+        self.window.clear();
         self.used_columns = 0;
     }
 
     fn begin_step(&mut self, h: f64) {
+        self.forget_previous();
+        // An unfinished step's columns are forgotten.
+        self.window.drop_current();
         // The Jacobian of H depends on the step size: columns of other step sizes mislead.
         if self.h.is_some_and(|old| (old - h).abs() > 1e-9 * h.abs()) {
-            self.reused.clear();
+            self.window.clear();
         }
         self.h = Some(h);
-        if let Some((r, t)) = self.prev.take() {
-            self.spare.push(r);
-            self.spare.push(t);
-        }
-        let current = std::mem::take(&mut self.current);
-        self.recycle(current);
+        self.window.open_step();
     }
 
     fn perform(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64], next: &mut [f64]) {
@@ -164,24 +283,26 @@ impl Acceleration for IqnIls {
         if let Some((pr, pt)) = self.prev.take() {
             let v = self.vector(n, |i| r[i] - pr[i]);
             let w = self.vector(n, |i| x_tilde[i] - pt[i]);
-            self.current.v.push(v);
-            self.current.w.push(w);
-            self.spare.push(pr);
-            self.spare.push(pt);
+            self.window.push(v, w, scale);
+            self.window.spare.push(pr);
+            self.window.spare.push(pt);
+        } else {
+            self.window.rescale(scale);
         }
-        // Newest first: this step's columns, then those of the previous steps.
-        let columns = self
-            .current
-            .v
-            .iter()
-            .zip(&self.current.w)
-            .rev()
-            .chain(self.reused.iter().flat_map(|c| c.v.iter().zip(&c.w).rev()));
+        // −(D V)ᵀ D r, newest column first.
         self.rhs.clear();
-        self.rhs.extend(r.iter().zip(scale).map(|(&r, &s)| -r * s));
+        self.rhs.extend(
+            self.window
+                .columns
+                .iter()
+                .map(|c| -scaled_dot(&c.v, &r, scale)),
+        );
+        let window = &self.window;
         self.ls.solve(
-            columns.clone().map(|(v, _)| v.as_slice()),
-            scale,
+            window.columns.len(),
+            n,
+            |p| window.columns[p].norm2,
+            |p, q| window.gram(p, q),
             &self.rhs,
             self.filter_limit,
             &mut self.coefficients,
@@ -194,9 +315,9 @@ impl Acceleration for IqnIls {
             }
         } else {
             next.copy_from_slice(x_tilde);
-            for (&cj, (_, w)) in c.iter().zip(columns) {
+            for (&cj, col) in c.iter().zip(&self.window.columns) {
                 if cj != 0.0 {
-                    for (n, &wi) in next.iter_mut().zip(w.iter()) {
+                    for (n, &wi) in next.iter_mut().zip(col.w.iter()) {
                         *n += cj * wi;
                     }
                 }
@@ -207,123 +328,117 @@ impl Acceleration for IqnIls {
     }
 
     fn end_step(&mut self, converged: bool) {
-        let columns = std::mem::take(&mut self.current);
-        if let Some((r, t)) = self.prev.take() {
-            self.spare.push(r);
-            self.spare.push(t);
+        self.forget_previous();
+        if !(converged && self.reuse_steps > 0) {
+            self.window.drop_current();
         }
-        if converged && self.reuse_steps > 0 && !columns.v.is_empty() {
-            self.reused.push_front(columns);
-            while self.reused.len() > self.reuse_steps {
-                let old = self.reused.pop_back().expect("longer than reuse_steps");
-                self.recycle(old);
-            }
-        } else {
-            self.recycle(columns);
-        }
+        self.window.close_step(self.reuse_steps);
     }
 }
 
 /// Least squares `min ‖A c − b‖₂` over the columns `A = [a₀, a₁, …]` (each of length `n = b.len()`)
-/// that pass a QR2 filter, taken in the given order: modified Gram–Schmidt with one
-/// reorthogonalisation pass; column `j` is dropped when the norm of its part orthogonal to the
-/// columns kept so far is `≤ limit · ‖aⱼ‖` (or when it is zero or not finite), and at most `n`
-/// columns are kept. Returns `c` with `cⱼ = 0` for dropped columns.
+/// that pass a QR2 filter, taken in the given order: column `j` is dropped when the norm of its
+/// part orthogonal to the columns kept so far is `≤ limit · ‖aⱼ‖` (or when it is zero or not
+/// finite; `limit` is raised to 1e-6, see the module documentation), and at most `n` columns are
+/// kept. Solved by the normal equations as in [`IqnIls`]. Returns `c` with `cⱼ = 0` for dropped
+/// columns.
 pub fn filtered_least_squares(columns: &[Vec<f64>], b: &[f64], limit: f64) -> Vec<f64> {
-    let mut c = Vec::new();
     let ones = vec![1.0; b.len()];
-    LeastSquares::default().solve(columns.iter().map(Vec::as_slice), &ones, b, limit, &mut c);
+    let rhs: Vec<f64> = columns.iter().map(|a| scaled_dot(a, b, &ones)).collect();
+    let mut c = Vec::new();
+    Cholesky::default().solve(
+        columns.len(),
+        b.len(),
+        |p| scaled_dot(&columns[p], &columns[p], &ones),
+        |p, q| scaled_dot(&columns[p], &columns[q], &ones),
+        &rhs,
+        limit,
+        &mut c,
+    );
     c
 }
 
-/// The workspace of [`filtered_least_squares`], kept between solves so that they allocate
-/// nothing once it has grown.
+/// The filtered normal-equation solver of [`IqnIls`] with its workspace (no allocation once it
+/// has grown).
 #[derive(Debug, Clone, Default)]
-struct LeastSquares {
-    /// Orthonormal columns kept, and column j of R (length j + 1) for each.
-    q: Vec<Vec<f64>>,
-    r: Vec<Vec<f64>>,
+struct Cholesky {
+    /// Rows of the factor `L` of the kept columns, row `a` holding `a + 1` entries.
+    l: Vec<f64>,
     kept: Vec<usize>,
     y: Vec<f64>,
 }
 
-impl LeastSquares {
-    /// [`filtered_least_squares`] of the columns `D aⱼ` (`D = diag(scale)`, applied on the fly)
-    /// into `c`.
-    fn solve<'a>(
+impl Cholesky {
+    /// Solves `G c = rhs` over the columns `0..m` that pass the filter, `G` given by its
+    /// diagonal `diag(p)` and its entries `gram(p, q)` for `p < q`; at most `n` columns are
+    /// kept. `c` gets `m` entries, 0 for dropped columns.
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
         &mut self,
-        columns: impl Iterator<Item = &'a [f64]>,
-        scale: &[f64],
-        b: &[f64],
+        m: usize,
+        n: usize,
+        diag: impl Fn(usize) -> f64,
+        gram: impl Fn(usize, usize) -> f64,
+        rhs: &[f64],
         limit: f64,
         c: &mut Vec<f64>,
     ) {
-        let n = b.len();
-        let mut m = 0; // columns kept
+        let limit2 = limit.max(MIN_FILTER_LIMIT).powi(2);
+        self.l.clear();
         self.kept.clear();
-        let mut count = 0;
-        for (j, a) in columns.enumerate() {
-            count = j + 1;
-            if m == n {
+        // Row a of L starts at a (a + 1) / 2.
+        for p in 0..m {
+            if self.kept.len() == n {
+                break;
+            }
+            let gpp = diag(p);
+            if !(gpp > 0.0 && gpp.is_finite()) {
                 continue;
             }
-            assert_eq!(a.len(), n, "least-squares column {j} has the wrong length");
-            if self.q.len() <= m {
-                self.q.push(Vec::new());
-                self.r.push(Vec::new());
-            }
-            let (done, rest) = self.q.split_at_mut(m);
-            let v = &mut rest[0];
-            v.clear();
-            v.extend(a.iter().zip(scale).map(|(&a, &s)| a * s));
-            let norm_a = norm(v);
-            if norm_a == 0.0 || !norm_a.is_finite() {
-                continue;
-            }
-            let rj = &mut self.r[m];
-            rj.clear();
-            rj.resize(m + 1, 0.0);
-            for _pass in 0..2 {
-                for (i, qi) in done.iter().enumerate() {
-                    let p = dot(qi, v);
-                    rj[i] += p;
-                    v.iter_mut().zip(qi).for_each(|(v, &qk)| *v -= p * qk);
+            let start = self.l.len();
+            let mut d = gpp;
+            for (a, &ka) in self.kept.iter().enumerate() {
+                let row_a = a * (a + 1) / 2;
+                let mut s = gram(ka, p);
+                for b in 0..a {
+                    s -= self.l[start + b] * self.l[row_a + b];
                 }
+                let lpa = s / self.l[row_a + a];
+                self.l.push(lpa);
+                d -= lpa * lpa;
             }
-            let rho = norm(v);
-            if rho <= limit * norm_a {
+            if d.is_nan() || d <= limit2 * gpp {
+                self.l.truncate(start);
                 continue;
             }
-            v.iter_mut().for_each(|v| *v /= rho);
-            rj[m] = rho;
-            self.kept.push(j);
-            m += 1;
+            self.l.push(d.sqrt());
+            self.kept.push(p);
         }
-        // R y = Qᵀ b by back substitution (R stored by columns).
+        // L y = rhs (kept), then Lᵀ z = y.
+        let k = self.kept.len();
         self.y.clear();
-        self.y.extend(self.q[..m].iter().map(|qi| dot(qi, b)));
-        let y = &mut self.y;
-        for i in (0..m).rev() {
-            y[i] /= self.r[i][i];
-            let yi = y[i];
-            for (k, yk) in y.iter_mut().enumerate().take(i) {
-                *yk -= self.r[i][k] * yi;
+        for a in 0..k {
+            let row = a * (a + 1) / 2;
+            let mut s = rhs[self.kept[a]];
+            for b in 0..a {
+                s -= self.l[row + b] * self.y[b];
+            }
+            self.y.push(s / self.l[row + a]);
+        }
+        for a in (0..k).rev() {
+            let row = a * (a + 1) / 2;
+            self.y[a] /= self.l[row + a];
+            let ya = self.y[a];
+            for b in 0..a {
+                self.y[b] -= self.l[row + b] * ya;
             }
         }
         c.clear();
-        c.resize(count, 0.0);
-        for (&j, &yj) in self.kept.iter().zip(y.iter()) {
-            c[j] = yj;
+        c.resize(m, 0.0);
+        for (&p, &yp) in self.kept.iter().zip(&self.y) {
+            c[p] = yp;
         }
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(&a, &b)| a * b).sum()
-}
-
-fn norm(a: &[f64]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 #[cfg(test)]
@@ -343,8 +458,8 @@ mod tests {
     fn coupling_least_squares_drops_dependent_columns() {
         let a = vec![
             vec![1.0, 2.0, 0.0],
-            vec![2.0, 4.0, 1e-9], // nearly parallel to the first
-            vec![0.0, 0.0, 1.0],
+            vec![2.0, 4.0, 1e-4], // nearly parallel to the first: 2.2e-5 of it is orthogonal
+            vec![0.0, 0.0, 1.0],  // in the span of the first two
         ];
         // b is not in span{a₀, a₂}: the filtered solution is its projection there.
         let b = [1.0, 2.5, 3.0];
@@ -354,10 +469,12 @@ mod tests {
             (c[0] - 1.2).abs() < 1e-14 && (c[2] - 3.0).abs() < 1e-14,
             "{c:?}"
         );
-        // Without the filter the nearly parallel column is kept and fits b exactly with a
-        // huge coefficient.
-        let c = filtered_least_squares(&a, &b, 0.0);
-        assert!(c[1].abs() > 1e6, "{c:?}");
+        // Below the nearly parallel column's orthogonal part it is kept, the third column is
+        // then dependent and dropped, and b's third component is fitted by a₁ with a huge
+        // coefficient: 1e-4 c₁ = 3.
+        let c = filtered_least_squares(&a, &b, 1e-6);
+        assert_eq!(c[2], 0.0, "{c:?}");
+        assert!((c[1] / 3e4 - 1.0).abs() < 1e-6, "{c:?}");
     }
 
     #[test]
