@@ -24,11 +24,13 @@ mod aitken;
 mod constant;
 mod iqn_ils;
 mod newton;
+mod secant;
 
 pub use aitken::Aitken;
 pub use constant::ConstantRelaxation;
-pub use iqn_ils::{filtered_least_squares, IqnIls};
+pub use iqn_ils::IqnIls;
 pub use newton::Newton;
+pub use secant::filtered_least_squares;
 
 /// One acceleration method for the interface iteration.
 pub trait Acceleration {
