@@ -110,6 +110,21 @@ fn converged_partitions_equal_monolithic() {
         }
         assert!(iters <= 200, "no convergence at t = {t1}");
         total_iters += iters;
+        // The train side's wheel forces from sparse rows are eq. (6) of the dense blocks.
+        for w in 0..nw {
+            let ws = ts.wheelsets[w];
+            let s = &ts.states[ws.vehicle];
+            let [u, ud, udd] = ts.rails[w];
+            let dense = ts.train.vehicles[ws.vehicle]
+                .model
+                .wheel_force(ws.local, &s.v, &s.vd, &u, &ud, &udd);
+            let d = (ts.force(w) - dense).amax();
+            assert!(
+                d <= 1e-12 * dense.amax(),
+                "wheelset {w} at t = {t1}: sparse {:?} vs dense {dense:?}",
+                ts.force(w)
+            );
+        }
         let scale = mono.q.amax().max(1e-12);
         let diff = (0..mono.q.len())
             .map(|n| (mono.q[n] - bs.state.q[n]).abs())

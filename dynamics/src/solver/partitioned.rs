@@ -501,14 +501,19 @@ impl TrainSide {
         self.t = t1;
     }
 
-    /// Force of wheelset `w` on the rail for the current state.
+    /// Force of wheelset `w` on the rail for the current state: eq. (6) as
+    /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the sparse rows of `K_vw`,
+    /// `C_vw` (a wheelset couples to a few of its vehicle's DOFs).
     pub fn force(&self, w: usize) -> Vector3<f64> {
         let ws = self.wheelsets[w];
         let s = &self.states[ws.vehicle];
         let [u, ud, udd] = self.rails[w];
-        self.train.vehicles[ws.vehicle]
-            .model
-            .wheel_force(ws.local, &s.v, &s.vd, &u, &ud, &udd)
+        let c = &self.train.vehicles[ws.vehicle].model.wheelsets[ws.local];
+        let mut f = c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud;
+        let sp = &self.sparse[ws.vehicle];
+        sp.kvw[ws.local].tr_mul_add(-1.0, s.v.as_slice(), f.as_mut_slice());
+        sp.cvw[ws.local].tr_mul_add(-1.0, s.vd.as_slice(), f.as_mut_slice());
+        f
     }
 }
 
