@@ -555,12 +555,24 @@ impl System {
         self.map.get(6 * n.0 + d as usize).copied().flatten()
     }
 
-    /// Lowest `n` eigenpairs of `K φ = ω² M φ`.
+    /// Lowest `n` eigenpairs of `K φ = ω² M φ`, each eigenvector's sign fixed (see
+    /// `normalise_signs`).
     ///
-    /// Dense reduction to standard form: `M = L Lᵀ` (Cholesky), `A = L⁻¹ K L⁻ᵀ`, symmetric
-    /// eigen-decomposition `A y = λ y` (eigenvalues ascending), `φ = L⁻ᵀ y`; since
-    /// `yᵀ y = 1`, `φᵀ M φ = 1`.
+    /// Models much larger than `n` (the bridges: thousands of DOFs, tens of modes) by a block
+    /// Krylov subspace of `K⁻¹ M` with a sparse Cholesky factor of `K` (see `krylov.rs`); small
+    /// ones, and any the subspace method declines, by [`System::eigen_dense`].
     pub fn eigen(&self, n: usize) -> Result<EigenPairs, FeError> {
+        self.check_count(n)?;
+        match crate::krylov::lowest(&self.k, &self.m, n) {
+            Some((omega2, mut vectors)) => {
+                normalise_signs(&mut vectors);
+                Ok(EigenPairs { omega2, vectors })
+            }
+            None => self.eigen_dense(n),
+        }
+    }
+
+    fn check_count(&self, n: usize) -> Result<(), FeError> {
         let ndof = self.dof_count();
         if n > ndof {
             return Err(FeError::TooManyModes {
@@ -568,6 +580,15 @@ impl System {
                 available: ndof,
             });
         }
+        Ok(())
+    }
+
+    /// Lowest `n` eigenpairs by the dense reduction to standard form: `M = L Lᵀ` (Cholesky),
+    /// `A = L⁻¹ K L⁻ᵀ`, symmetric eigen-decomposition `A y = λ y` (eigenvalues ascending),
+    /// `φ = L⁻ᵀ y`; since `yᵀ y = 1`, `φᵀ M φ = 1`. `O(N³)` for `N` DOFs; signs as
+    /// [`System::eigen`].
+    pub fn eigen_dense(&self, n: usize) -> Result<EigenPairs, FeError> {
+        self.check_count(n)?;
         let par = faer::get_global_parallelism();
         let llt = self
             .m
@@ -597,6 +618,7 @@ impl System {
         }
         let mut vectors = evd.U().subcols(0, n).to_owned();
         solve_upper_triangular_in_place(l.transpose(), vectors.as_mut(), par);
+        normalise_signs(&mut vectors);
         Ok(EigenPairs { omega2, vectors })
     }
 
@@ -610,6 +632,24 @@ impl System {
                 hint: format!("{e:?}: the structure is a mechanism or unstable"),
             })?;
         Ok(StiffnessFactor { llt })
+    }
+}
+
+/// Each eigenvector's sign chosen so that its product with a fixed generic vector
+/// (`cᵢ = frac((i + 1) g) − ½`, g the golden ratio) is positive: the same modes whichever
+/// solver found them. (The largest component would not do: a symmetric structure has modes
+/// whose largest components are equal and opposite, on its two cables.)
+fn normalise_signs(vectors: &mut Mat<f64>) {
+    const G: f64 = 0.618_033_988_749_894_8;
+    for j in 0..vectors.ncols() {
+        let s: f64 = (0..vectors.nrows())
+            .map(|i| vectors[(i, j)] * (((i + 1) as f64 * G).fract() - 0.5))
+            .sum();
+        if s < 0.0 {
+            for i in 0..vectors.nrows() {
+                vectors[(i, j)] = -vectors[(i, j)];
+            }
+        }
     }
 }
 
