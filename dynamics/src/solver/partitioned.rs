@@ -105,7 +105,6 @@ pub struct BridgeSide {
     pub state: ModalState,
     omega: Vec<f64>,
     zeta: Vec<f64>,
-    scratch: Vec<[f64; 3]>,
     /// Rail shapes at recent positions, shared by clones (it holds derived data only, keyed
     /// by position, so a restored state may use it too).
     cache: Arc<Mutex<ShapeCache>>,
@@ -125,7 +124,6 @@ impl Clone for BridgeSide {
             state: self.state.clone(),
             omega: self.omega.clone(),
             zeta: self.zeta.clone(),
-            scratch: self.scratch.clone(),
             cache: self.cache.clone(),
             buffeting: self.buffeting.clone(),
             deck_wind: self.deck_wind.clone(),
@@ -139,7 +137,6 @@ impl Clone for BridgeSide {
         self.state.clone_from(&source.state);
         self.omega.clone_from(&source.omega);
         self.zeta.clone_from(&source.zeta);
-        self.scratch.clone_from(&source.scratch);
         self.cache.clone_from(&source.cache);
         self.buffeting.clone_from(&source.buffeting);
         self.deck_wind.clone_from(&source.deck_wind);
@@ -158,7 +155,6 @@ impl BridgeSide {
                 qdd: vec![0.0; nb],
                 t: 0.0,
             },
-            scratch: vec![[0.0; 3]; nb],
             cache: Arc::new(Mutex::new(ShapeCache::default())),
             buffeting: bridge.buffeting.as_ref().map(|spec| {
                 Arc::new(
@@ -277,10 +273,11 @@ impl BridgeSide {
         })
     }
 
-    /// Deck response at `x`.
+    /// Deck response at `x` (the deck shapes there kept for the next call: probes stay put).
     pub fn probe(&mut self, x: f64) -> ProbeValues {
-        self.bridge.deck_shapes(x, &mut self.scratch);
-        ProbeValues::from_shapes(&self.scratch, &self.state.q, &self.state.qdd)
+        let mut c = self.cache.lock().expect("shape cache");
+        let shapes = c.probe(&self.bridge, self.omega.len(), x);
+        ProbeValues::from_shapes(shapes, &self.state.q, &self.state.qdd)
     }
 }
 
@@ -298,6 +295,9 @@ struct VehicleSparse {
     k: Csr,
     kvw: Vec<Csr>,
     cvw: Vec<Csr>,
+    /// `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each) for the wheel forces.
+    kwv: Vec<Csr>,
+    cwv: Vec<Csr>,
 }
 
 impl VehicleSparse {
@@ -307,6 +307,16 @@ impl VehicleSparse {
             k: Csr::of(&model.k),
             kvw: model.wheelsets.iter().map(|w| Csr::of(&w.k_vw)).collect(),
             cvw: model.wheelsets.iter().map(|w| Csr::of(&w.c_vw)).collect(),
+            kwv: model
+                .wheelsets
+                .iter()
+                .map(|w| Csr::of(&w.k_vw.transpose()))
+                .collect(),
+            cwv: model
+                .wheelsets
+                .iter()
+                .map(|w| Csr::of(&w.c_vw.transpose()))
+                .collect(),
         }
     }
 }
@@ -502,8 +512,8 @@ impl TrainSide {
     }
 
     /// Force of wheelset `w` on the rail for the current state: eq. (6) as
-    /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the sparse rows of `K_vw`,
-    /// `C_vw` (a wheelset couples to a few of its vehicle's DOFs).
+    /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the sparse rows of `K_wv`,
+    /// `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
     pub fn force(&self, w: usize) -> Vector3<f64> {
         let ws = self.wheelsets[w];
         let s = &self.states[ws.vehicle];
@@ -511,8 +521,8 @@ impl TrainSide {
         let c = &self.train.vehicles[ws.vehicle].model.wheelsets[ws.local];
         let mut f = c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud;
         let sp = &self.sparse[ws.vehicle];
-        sp.kvw[ws.local].tr_mul_add(-1.0, s.v.as_slice(), f.as_mut_slice());
-        sp.cvw[ws.local].tr_mul_add(-1.0, s.vd.as_slice(), f.as_mut_slice());
+        sp.kwv[ws.local].mul_add(-1.0, s.v.as_slice(), f.as_mut_slice());
+        sp.cwv[ws.local].mul_add(-1.0, s.vd.as_slice(), f.as_mut_slice());
         f
     }
 }
@@ -528,9 +538,26 @@ struct ShapeCache {
     /// Per slot and entry: the irregularity at that position.
     irregularity: Vec<[RailIrregularity; 2]>,
     next: Vec<usize>,
+    /// Deck shapes at the probe positions asked for (x bits, shapes).
+    probes: Vec<(u64, Vec<[f64; 3]>)>,
 }
 
 impl ShapeCache {
+    /// The deck shapes at probe position `x`.
+    fn probe(&mut self, bridge: &ModalBridge, nb: usize, x: f64) -> &[[f64; 3]] {
+        let bits = x.to_bits();
+        let i = match self.probes.iter().position(|p| p.0 == bits) {
+            Some(i) => i,
+            None => {
+                let mut shapes = vec![[0.0; 3]; nb];
+                bridge.deck_shapes(x, &mut shapes);
+                self.probes.push((bits, shapes));
+                self.probes.len() - 1
+            }
+        };
+        &self.probes[i].1
+    }
+
     fn get<R>(
         &mut self,
         bridge: &ModalBridge,
