@@ -221,6 +221,18 @@ impl Block {
         (o < self.len()).then(|| (o / self.width(), o % self.width()))
     }
 
+    /// Offset in the block of `vr[0]` when `vr` is a run of consecutive value references
+    /// (`vr[i] = vr[0] + i`) that lies wholly inside the block; `None` otherwise (also empty).
+    pub fn run(&self, vr: &[u32]) -> Option<usize> {
+        let first = *vr.first()?;
+        let o = first.checked_sub(self.vr0)? as usize;
+        let consecutive = vr
+            .iter()
+            .enumerate()
+            .all(|(i, &r)| r.wrapping_sub(first) as usize == i);
+        (consecutive && o + vr.len() <= self.len()).then_some(o)
+    }
+
     /// Output-buffer slot of channel `k` of index `i` (outputs only).
     pub fn slot(&self, i: usize, k: usize) -> usize {
         self.slot0.expect("an output block") + i * self.width() + k
@@ -550,6 +562,15 @@ mod tests {
         assert_eq!(b.name(2, 8), "ws[3].z_dd");
         assert_eq!(b.slots(1), 9..18);
         assert_eq!(c.vrs(&[1]), vec![43, 45, 47, 49]);
+        // runs of consecutive value references inside a block
+        assert_eq!(b.run(&[15, 16, 17]), Some(0));
+        assert_eq!(b.run(&(20..42).collect::<Vec<_>>()), Some(5));
+        assert_eq!(b.run(&[41]), Some(26));
+        assert_eq!(b.run(&[41, 42]), None, "leaves the block");
+        assert_eq!(b.run(&[14, 15]), None, "starts before it");
+        assert_eq!(b.run(&[15, 17]), None, "not consecutive");
+        assert_eq!(b.run(&[16, 15]), None, "not ascending");
+        assert_eq!(b.run(&[]), None);
     }
 
     #[test]

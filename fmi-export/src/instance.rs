@@ -203,14 +203,11 @@ impl<M: FmuModel> Instance<M> {
     }
 
     pub(crate) fn get_real(&mut self, vr: &[u32], values: &mut [f64]) -> Result<Status, String> {
-        for (r, out) in vr.iter().zip(values.iter_mut()) {
-            let v = self.model.get_real(*r)?;
-            *out = v;
-            if !v.is_finite() {
-                return Err(format!(
-                    "Real value reference {r} has the non-finite value {v}"
-                ));
-            }
+        self.model.get_reals(vr, values)?;
+        if let Some((r, v)) = vr.iter().zip(values.iter()).find(|(_, v)| !v.is_finite()) {
+            return Err(format!(
+                "Real value reference {r} has the non-finite value {v}"
+            ));
         }
         Ok(Status::Ok)
     }
@@ -222,9 +219,7 @@ impl<M: FmuModel> Instance<M> {
             ));
         }
         let phase = self.phase()?;
-        for (r, v) in vr.iter().zip(values) {
-            self.model.set_real(*r, *v, phase)?;
-        }
+        self.model.set_reals(vr, values, phase)?;
         Ok(Status::Ok)
     }
 

@@ -76,6 +76,24 @@ pub trait FmuModel: Clone + Send + 'static {
     /// Get a Real variable (any phase but `Instantiated`).
     fn get_real(&mut self, vr: u32) -> Result<f64, String>;
 
+    /// Set several Real variables (one `fmi2SetReal`; the values are finite, checked before).
+    /// Default: [`FmuModel::set_real`] for each in turn. A model may take runs of consecutive
+    /// value references at once, with the same result.
+    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
+        vr.iter()
+            .zip(values)
+            .try_for_each(|(&r, &v)| self.set_real(r, v, phase))
+    }
+
+    /// Get several Real variables (one `fmi2GetReal`). Default: [`FmuModel::get_real`] for
+    /// each in turn; a model may copy runs of consecutive value references at once.
+    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
+        for (&r, out) in vr.iter().zip(values.iter_mut()) {
+            *out = self.get_real(r)?;
+        }
+        Ok(())
+    }
+
     fn set_integer(&mut self, vr: u32, _value: i32, _phase: Phase) -> Result<(), String> {
         Err(format!("unknown Integer value reference {vr}"))
     }

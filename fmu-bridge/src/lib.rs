@@ -243,6 +243,46 @@ impl FmuModel for BridgeFmu {
         Ok(())
     }
 
+    /// The wheelset inputs as one run of consecutive value references (what the master
+    /// sends) go straight into place.
+    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
+        match self.layout.wheel_in.run(vr) {
+            Some(first) => {
+                let width = self.layout.wheel_in.width();
+                for (j, &v) in (first..).zip(values) {
+                    *wheel_channel(&mut self.inputs[j / width], j % width) = v;
+                }
+                self.dirty = true;
+                Ok(())
+            }
+            None => vr
+                .iter()
+                .zip(values)
+                .try_for_each(|(&r, &v)| self.set_real(r, v, phase)),
+        }
+    }
+
+    /// A run of consecutive value references inside one output block (the rail motion, as
+    /// the master asks for it) is one copy from the output buffer.
+    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
+        let l = &self.layout;
+        let run = [l.rail_out, l.probe_out]
+            .into_iter()
+            .find_map(|b| Some(b.slot0? + b.run(vr)?));
+        match run {
+            Some(first) => {
+                self.refresh();
+                values.copy_from_slice(&self.outputs[first..first + vr.len()]);
+            }
+            None => {
+                for (&r, out) in vr.iter().zip(values.iter_mut()) {
+                    *out = self.get_real(r)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
         match self.layout.decode(vr) {
             Some(BridgeVar::Wheel { w, k }) => Ok(*wheel_channel(&mut self.inputs[w], k)),

@@ -377,6 +377,25 @@ impl FmuModel for TrainFmu {
         Ok(())
     }
 
+    /// The rail motion as one run of consecutive value references (what the master sends)
+    /// goes straight into place.
+    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
+        match self.layout.rail_in.run(vr) {
+            Some(first) => {
+                let width = self.layout.rail_in.width();
+                for (j, &v) in (first..).zip(values) {
+                    *rail_channel(&mut self.rails[j / width], j % width) = v;
+                }
+                self.dirty = true;
+                Ok(())
+            }
+            None => vr
+                .iter()
+                .zip(values)
+                .try_for_each(|(&r, &v)| self.set_real(r, v, phase)),
+        }
+    }
+
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
         let unknown = || format!("unknown value reference {vr}");
         match self.layout.decode(vr).ok_or_else(unknown)? {

@@ -209,6 +209,65 @@ fn train_fmu_state_round_trips_bit_identically() {
     state_round_trip(&coach2().train, &TrainDriver { n: 8 });
 }
 
+/// Inputs set and outputs read as one ascending run of value references (the FMUs copy such
+/// runs at once) and in descending order (value by value) give bit-identical outputs.
+fn runs_equal_value_by_value(path: &Path, driver: &dyn Driver) {
+    let fmu = load(path);
+    let inputs = vrs_with(&fmu, model_description::Causality::Input);
+    let outputs = vrs_with(&fmu, model_description::Causality::Output);
+    let reversed = |v: &[u32]| v.iter().rev().copied().collect::<Vec<_>>();
+    let (inputs_rev, outputs_rev) = (reversed(&inputs), reversed(&outputs));
+    let mut results = Vec::new();
+    for (name, ins, outs) in [
+        ("runs", &inputs, &outputs),
+        ("value by value", &inputs_rev, &outputs_rev),
+    ] {
+        let mut inst = instantiate(&fmu, name);
+        let values = |k: usize| -> Vec<f64> {
+            let v = driver.inputs(k);
+            if std::ptr::eq(ins, &inputs) {
+                v
+            } else {
+                v.into_iter().rev().collect()
+            }
+        };
+        inst.setup_experiment(None, 0.0, None).expect("setup");
+        inst.enter_initialization_mode().expect("enter init");
+        inst.set_real(ins, &values(0)).expect("initial inputs");
+        inst.exit_initialization_mode().expect("exit init");
+        let mut rows = Vec::new();
+        for k in 1..=60 {
+            inst.set_real(ins, &values(k))
+                .unwrap_or_else(|e| panic!("{e}"));
+            inst.do_step((k - 1) as f64 * H, H, false)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let mut out = vec![0.0; outs.len()];
+            inst.get_real(outs, &mut out)
+                .unwrap_or_else(|e| panic!("{e}"));
+            if !std::ptr::eq(outs, &outputs) {
+                out.reverse();
+            }
+            rows.push(out);
+        }
+        results.push(bits(&rows));
+    }
+    assert!(
+        results[0] == results[1],
+        "{}: runs of value references and single values differ",
+        path.display()
+    );
+}
+
+#[test]
+fn bridge_fmu_runs_of_values_equal_single_values() {
+    runs_equal_value_by_value(&coach2().bridge, &BridgeDriver { n: 8 });
+}
+
+#[test]
+fn train_fmu_runs_of_values_equal_single_values() {
+    runs_equal_value_by_value(&coach2().train, &TrainDriver { n: 8 });
+}
+
 /// Unpack an exported FMU into `<scratch>/<name>` for the harness.
 fn unpacked(fmu: &Path, name: &str) -> Unpacked {
     let dir = coach2().dir.join(name);
