@@ -233,6 +233,12 @@ impl Block {
         (consecutive && o + vr.len() <= self.len()).then_some(o)
     }
 
+    /// The output-buffer slot of `vr[0]` when `vr` is a [`Block::run`] inside one of the
+    /// output `blocks` (whose slots follow their value references).
+    pub fn output_run(blocks: &[Block], vr: &[u32]) -> Option<usize> {
+        blocks.iter().find_map(|b| Some(b.slot0? + b.run(vr)?))
+    }
+
     /// Output-buffer slot of channel `k` of index `i` (outputs only).
     pub fn slot(&self, i: usize, k: usize) -> usize {
         self.slot0.expect("an output block") + i * self.width() + k
@@ -571,6 +577,17 @@ mod tests {
         assert_eq!(b.run(&[15, 17]), None, "not consecutive");
         assert_eq!(b.run(&[16, 15]), None, "not ascending");
         assert_eq!(b.run(&[]), None);
+        assert_eq!(Block::output_run(&[b, c], &[43, 44]), Some(28));
+        assert_eq!(
+            Block::output_run(&[b, c], &[41, 42]),
+            None,
+            "across two blocks"
+        );
+        assert_eq!(
+            Block::output_run(&[a], &[0, 1]),
+            None,
+            "an input block has no slots"
+        );
     }
 
     #[test]

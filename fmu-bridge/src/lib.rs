@@ -20,7 +20,7 @@ pub mod layout;
 
 use layout::{probe_channels, BridgeLayout, BridgeVar, PARKED_X};
 use tbi_dynamics::interface::{
-    rail_channel, wheel_channel, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
+    rail_channel, wheel_channel, Block, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
     TRACK_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
@@ -266,10 +266,7 @@ impl FmuModel for BridgeFmu {
     /// the master asks for it) is one copy from the output buffer.
     fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
         let l = &self.layout;
-        let run = [l.rail_out, l.probe_out]
-            .into_iter()
-            .find_map(|b| Some(b.slot0? + b.run(vr)?));
-        match run {
+        match Block::output_run(&[l.rail_out, l.probe_out], vr) {
             Some(first) => {
                 self.refresh();
                 values.copy_from_slice(&self.outputs[first..first + vr.len()]);

@@ -17,7 +17,7 @@ pub mod layout;
 
 use layout::{parameters, TrainLayout, TrainVar};
 use tbi_dynamics::interface::{
-    rail_channel, wheel, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
+    rail_channel, wheel, Block, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::VehicleState;
@@ -394,6 +394,24 @@ impl FmuModel for TrainFmu {
                 .zip(values)
                 .try_for_each(|(&r, &v)| self.set_real(r, v, phase)),
         }
+    }
+
+    /// A run of consecutive value references inside one output block is one copy from the
+    /// output buffer.
+    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
+        let l = &self.layout;
+        match Block::output_run(&[l.wheel_out, l.vehicle_out, l.body_x_out], vr) {
+            Some(first) => {
+                self.refresh()?;
+                values.copy_from_slice(&self.outputs[first..first + vr.len()]);
+            }
+            None => {
+                for (&r, out) in vr.iter().zip(values.iter_mut()) {
+                    *out = self.get_real(r)?;
+                }
+            }
+        }
+        Ok(())
     }
 
     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
