@@ -233,6 +233,15 @@ impl Block {
         (consecutive && o + vr.len() <= self.len()).then_some(o)
     }
 
+    /// `set(i, k, value)` for the values of a run that starts at offset `first` of the block
+    /// (from [`Block::run`]), in order.
+    pub fn for_run(&self, first: usize, values: &[f64], mut set: impl FnMut(usize, usize, f64)) {
+        let width = self.width();
+        for (j, &v) in (first..).zip(values) {
+            set(j / width, j % width, v);
+        }
+    }
+
     /// The output-buffer slot of `vr[0]` when `vr` is a [`Block::run`] inside one of the
     /// output `blocks` (whose slots follow their value references).
     pub fn output_run(blocks: &[Block], vr: &[u32]) -> Option<usize> {
@@ -577,6 +586,9 @@ mod tests {
         assert_eq!(b.run(&[15, 17]), None, "not consecutive");
         assert_eq!(b.run(&[16, 15]), None, "not ascending");
         assert_eq!(b.run(&[]), None);
+        let mut seen = Vec::new();
+        b.for_run(8, &[1.0, 2.0, 3.0], |i, k, v| seen.push((i, k, v)));
+        assert_eq!(seen, vec![(0, 8, 1.0), (1, 0, 2.0), (1, 1, 3.0)]);
         assert_eq!(Block::output_run(&[b, c], &[43, 44]), Some(28));
         assert_eq!(
             Block::output_run(&[b, c], &[41, 42]),

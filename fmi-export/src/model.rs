@@ -80,18 +80,13 @@ pub trait FmuModel: Clone + Send + 'static {
     /// Default: [`FmuModel::set_real`] for each in turn. A model may take runs of consecutive
     /// value references at once, with the same result.
     fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
-        vr.iter()
-            .zip(values)
-            .try_for_each(|(&r, &v)| self.set_real(r, v, phase))
+        set_each(self, vr, values, phase)
     }
 
     /// Get several Real variables (one `fmi2GetReal`). Default: [`FmuModel::get_real`] for
     /// each in turn; a model may copy runs of consecutive value references at once.
     fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
-        for (&r, out) in vr.iter().zip(values.iter_mut()) {
-            *out = self.get_real(r)?;
-        }
-        Ok(())
+        get_each(self, vr, values)
     }
 
     fn set_integer(&mut self, vr: u32, _value: i32, _phase: Phase) -> Result<(), String> {
@@ -126,4 +121,25 @@ pub trait FmuModel: Clone + Send + 'static {
     /// Restore a state written by [`FmuModel::serialize_state`] (possibly by another
     /// instance of the same FMU).
     fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String>;
+}
+
+/// [`FmuModel::set_real`] for each value in turn: the default of [`FmuModel::set_reals`], and
+/// what a model's own `set_reals` falls back to for value references it does not take at once.
+pub fn set_each<M: FmuModel>(
+    model: &mut M,
+    vr: &[u32],
+    values: &[f64],
+    phase: Phase,
+) -> Result<(), String> {
+    vr.iter()
+        .zip(values)
+        .try_for_each(|(&r, &v)| model.set_real(r, v, phase))
+}
+
+/// [`FmuModel::get_real`] for each value in turn (see [`set_each`]).
+pub fn get_each<M: FmuModel>(model: &mut M, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
+    for (&r, out) in vr.iter().zip(values.iter_mut()) {
+        *out = model.get_real(r)?;
+    }
+    Ok(())
 }

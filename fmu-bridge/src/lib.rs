@@ -12,6 +12,7 @@
 // Index loops mirror the equations (q_n, ω_n, rows k of Ψ) and are kept on purpose.
 #![allow(clippy::needless_range_loop)]
 
+use fmi_export::model::{get_each, set_each};
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -246,37 +247,26 @@ impl FmuModel for BridgeFmu {
     /// The wheelset inputs as one run of consecutive value references (what the master
     /// sends) go straight into place.
     fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
-        match self.layout.wheel_in.run(vr) {
-            Some(first) => {
-                let width = self.layout.wheel_in.width();
-                for (j, &v) in (first..).zip(values) {
-                    *wheel_channel(&mut self.inputs[j / width], j % width) = v;
-                }
-                self.dirty = true;
-                Ok(())
-            }
-            None => vr
-                .iter()
-                .zip(values)
-                .try_for_each(|(&r, &v)| self.set_real(r, v, phase)),
-        }
+        let Some(first) = self.layout.wheel_in.run(vr) else {
+            return set_each(self, vr, values, phase);
+        };
+        let inputs = &mut self.inputs;
+        (self.layout.wheel_in).for_run(first, values, |w, k, v| {
+            *wheel_channel(&mut inputs[w], k) = v
+        });
+        self.dirty = true;
+        Ok(())
     }
 
     /// A run of consecutive value references inside one output block (the rail motion, as
     /// the master asks for it) is one copy from the output buffer.
     fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
         let l = &self.layout;
-        match Block::output_run(&[l.rail_out, l.probe_out], vr) {
-            Some(first) => {
-                self.refresh();
-                values.copy_from_slice(&self.outputs[first..first + vr.len()]);
-            }
-            None => {
-                for (&r, out) in vr.iter().zip(values.iter_mut()) {
-                    *out = self.get_real(r)?;
-                }
-            }
-        }
+        let Some(first) = Block::output_run(&[l.rail_out, l.probe_out], vr) else {
+            return get_each(self, vr, values);
+        };
+        self.refresh();
+        values.copy_from_slice(&self.outputs[first..first + vr.len()]);
         Ok(())
     }
 

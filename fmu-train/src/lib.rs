@@ -8,6 +8,7 @@
 //! with the rail motion at `t + h`. The C symbols are exported by the `train` shared object
 //! of `fmu-train/so`.
 
+use fmi_export::model::{get_each, set_each};
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -380,37 +381,24 @@ impl FmuModel for TrainFmu {
     /// The rail motion as one run of consecutive value references (what the master sends)
     /// goes straight into place.
     fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
-        match self.layout.rail_in.run(vr) {
-            Some(first) => {
-                let width = self.layout.rail_in.width();
-                for (j, &v) in (first..).zip(values) {
-                    *rail_channel(&mut self.rails[j / width], j % width) = v;
-                }
-                self.dirty = true;
-                Ok(())
-            }
-            None => vr
-                .iter()
-                .zip(values)
-                .try_for_each(|(&r, &v)| self.set_real(r, v, phase)),
-        }
+        let Some(first) = self.layout.rail_in.run(vr) else {
+            return set_each(self, vr, values, phase);
+        };
+        let rails = &mut self.rails;
+        (self.layout.rail_in).for_run(first, values, |w, k, v| *rail_channel(&mut rails[w], k) = v);
+        self.dirty = true;
+        Ok(())
     }
 
     /// A run of consecutive value references inside one output block is one copy from the
     /// output buffer.
     fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
         let l = &self.layout;
-        match Block::output_run(&[l.wheel_out, l.vehicle_out, l.body_x_out], vr) {
-            Some(first) => {
-                self.refresh()?;
-                values.copy_from_slice(&self.outputs[first..first + vr.len()]);
-            }
-            None => {
-                for (&r, out) in vr.iter().zip(values.iter_mut()) {
-                    *out = self.get_real(r)?;
-                }
-            }
-        }
+        let Some(first) = Block::output_run(&[l.wheel_out, l.vehicle_out, l.body_x_out], vr) else {
+            return get_each(self, vr, values);
+        };
+        self.refresh()?;
+        values.copy_from_slice(&self.outputs[first..first + vr.len()]);
         Ok(())
     }
 
