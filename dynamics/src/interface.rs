@@ -159,6 +159,20 @@ pub fn rail_channel(rail: &mut [Vector3<f64>; 3], k: usize) -> &mut f64 {
     &mut rail[k / 3][k % 3]
 }
 
+/// The [`RAIL_CHANNELS`] of a rail motion in their order (channel `k` is
+/// [`rail_channel`]`(rail, k)`).
+pub fn rail_values(rail: &[Vector3<f64>; 3]) -> [f64; 9] {
+    let [u, ud, udd] = rail;
+    [u.x, u.y, u.z, ud.x, ud.y, ud.z, udd.x, udd.y, udd.z]
+}
+
+/// The rail motion of the [`RAIL_CHANNELS`] `v` (9 values in their order; the inverse of
+/// [`rail_values`]).
+pub fn rail_from_values(v: &[f64]) -> [Vector3<f64>; 3] {
+    let d = |i: usize| Vector3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+    [d(0), d(1), d(2)]
+}
+
 /// FMI causality of a variable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Causality {
@@ -237,8 +251,13 @@ impl Block {
     /// (from [`Block::run`]), in order.
     pub fn for_run(&self, first: usize, values: &[f64], mut set: impl FnMut(usize, usize, f64)) {
         let width = self.width();
-        for (j, &v) in (first..).zip(values) {
-            set(j / width, j % width, v);
+        let (mut i, mut k) = (first / width, first % width);
+        for &v in values {
+            set(i, k, v);
+            k += 1;
+            if k == width {
+                (i, k) = (i + 1, 0);
+            }
         }
     }
 
@@ -555,6 +574,33 @@ pub const BUILD_ID: &str = concat!("tbi-", env!("CARGO_PKG_VERSION"));
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rail_values_are_the_rail_channels_in_order() {
+        let mut r = [
+            Vector3::new(1.0, 2.0, 3.0),
+            Vector3::new(4.0, 5.0, 6.0),
+            Vector3::new(7.0, 8.0, 9.0),
+        ];
+        let v = rail_values(&r);
+        for (k, &vk) in v.iter().enumerate() {
+            assert_eq!(vk, *rail_channel(&mut r, k), "channel {k}");
+        }
+        assert_eq!(rail_from_values(&v), r);
+    }
+
+    #[test]
+    fn for_run_visits_index_and_channel_of_each_value() {
+        let mut blocks = Blocks::default();
+        let b = blocks.input("ws", &WHEEL_CHANNELS, 3);
+        let values: Vec<f64> = (0..9).map(f64::from).collect();
+        let mut seen = Vec::new();
+        b.for_run(3, &values, |i, k, v| seen.push((i, k, v)));
+        let expected: Vec<(usize, usize, f64)> = (3..12)
+            .map(|j| (j / b.width(), j % b.width(), (j - 3) as f64))
+            .collect();
+        assert_eq!(seen, expected);
+    }
 
     #[test]
     fn blocks_follow_each_other_and_decode_inverts_vr() {

@@ -21,7 +21,7 @@ pub mod layout;
 
 use layout::{probe_channels, BridgeLayout, BridgeVar, PARKED_X};
 use tbi_dynamics::interface::{
-    rail_channel, wheel_channel, Block, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
+    rail_values, wheel_channel, Block, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
     TRACK_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
@@ -164,13 +164,10 @@ impl BridgeFmu {
             self.side.initialize(&self.inputs);
         }
         let l = &self.layout;
-        for w in 0..l.n_wheelsets() {
-            let i = self.inputs[w];
-            let mut r = self.side.rail(w, i.x, i.vx);
-            for k in 0..l.rail_out.width() {
-                self.outputs[l.rail_out.slot(w, k)] = *rail_channel(&mut r, k);
-            }
-        }
+        let outputs = &mut self.outputs;
+        self.side.rails(&self.inputs, |w, r| {
+            outputs[l.rail_out.slots(w)].copy_from_slice(&rail_values(r))
+        });
         for (p, probe) in self.res.probes.iter().enumerate() {
             let v = self.side.probe(probe.x_m);
             self.outputs[l.probe_out.slots(p)].copy_from_slice(&probe_channels(&v));

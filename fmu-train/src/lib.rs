@@ -8,7 +8,7 @@
 //! with the rail motion at `t + h`. The C symbols are exported by the `train` shared object
 //! of `fmu-train/so`.
 
-use fmi_export::model::{get_each, set_each};
+use fmi_export::model::set_each;
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -18,7 +18,8 @@ pub mod layout;
 
 use layout::{parameters, TrainLayout, TrainVar};
 use tbi_dynamics::interface::{
-    rail_channel, wheel, Block, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID, TRAIN_RESOURCE,
+    rail_channel, rail_from_values, wheel, Block, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID,
+    TRAIN_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::VehicleState;
@@ -385,20 +386,42 @@ impl FmuModel for TrainFmu {
             return set_each(self, vr, values, phase);
         };
         let rails = &mut self.rails;
-        (self.layout.rail_in).for_run(first, values, |w, k, v| *rail_channel(&mut rails[w], k) = v);
+        let width = self.layout.rail_in.width();
+        if first.is_multiple_of(width) && values.len().is_multiple_of(width) {
+            // whole wheelsets (the master's case)
+            for (r, v) in rails[first / width..]
+                .iter_mut()
+                .zip(values.chunks_exact(width))
+            {
+                *r = rail_from_values(v);
+            }
+        } else {
+            (self.layout.rail_in)
+                .for_run(first, values, |w, k, v| *rail_channel(&mut rails[w], k) = v);
+        }
         self.dirty = true;
         Ok(())
     }
 
     /// A run of consecutive value references inside one output block is one copy from the
-    /// output buffer.
+    /// output buffer; other outputs (the master's positions, speeds and forces of every
+    /// wheelset) are gathered from it through the decode table.
     fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
         let l = &self.layout;
-        let Some(first) = Block::output_run(&[l.wheel_out, l.vehicle_out, l.body_x_out], vr) else {
-            return get_each(self, vr, values);
-        };
-        self.refresh()?;
-        values.copy_from_slice(&self.outputs[first..first + vr.len()]);
+        if let Some(first) = Block::output_run(&[l.wheel_out, l.vehicle_out, l.body_x_out], vr) {
+            self.refresh()?;
+            values.copy_from_slice(&self.outputs[first..first + vr.len()]);
+            return Ok(());
+        }
+        for (&r, out) in vr.iter().zip(values.iter_mut()) {
+            *out = match self.layout.decode(r) {
+                Some(TrainVar::Output(slot)) => {
+                    self.refresh()?;
+                    self.outputs[slot]
+                }
+                _ => self.get_real(r)?,
+            };
+        }
         Ok(())
     }
 

@@ -114,6 +114,8 @@ pub struct BridgeSide {
     /// comes from outside (the bridge FMU's inputs `deck[j].u`, `deck[j].w`); None: the
     /// bridge generates its field ([`Self::take_wind_from_inputs`]).
     pub deck_wind: Option<Vec<[f64; 2]>>,
+    /// Scratch of [`Self::rails`]: `(q, q̇, q̈, 0)` of each mode.
+    modal: Vec<[f64; 4]>,
 }
 
 impl Clone for BridgeSide {
@@ -127,6 +129,7 @@ impl Clone for BridgeSide {
             cache: self.cache.clone(),
             buffeting: self.buffeting.clone(),
             deck_wind: self.deck_wind.clone(),
+            modal: Vec::new(),
         }
     }
 
@@ -163,6 +166,7 @@ impl BridgeSide {
                 )
             }),
             deck_wind: None,
+            modal: Vec::new(),
             bridge,
             track,
         }
@@ -203,9 +207,11 @@ impl BridgeSide {
 
     /// Generalised forces `Σ Ψ(x_w)ᵀ f_w`.
     fn modal_force(&mut self, inputs: &[WheelInput]) -> Vec<f64> {
-        let mut fq = vec![0.0; self.omega.len()];
+        let nb = self.omega.len();
+        let mut fq = vec![0.0; nb];
+        let mut c = self.cache.lock().expect("shape cache");
         for (w, wi) in inputs.iter().enumerate() {
-            self.with_shapes(w, wi.x, |on, psi, _| {
+            c.get(&self.bridge, &*self.track, nb, w, wi.x, |on, psi, _| {
                 if on {
                     for (o, p) in fq.iter_mut().zip(psi) {
                         *o += p[0] * wi.f[0] + p[1] * wi.f[1] + p[2] * wi.f[2];
@@ -273,6 +279,55 @@ impl BridgeSide {
         })
     }
 
+    /// [`Self::rail`] under every wheelset, wheelset `w` at `inputs[w]`: `f(w, motion)`. The
+    /// same sums in the same order, with `(q, q̇, q̈)` of a mode side by side.
+    pub fn rails(&mut self, inputs: &[WheelInput], mut f: impl FnMut(usize, &[Vector3<f64>; 3])) {
+        let nb = self.omega.len();
+        let s = &self.state;
+        self.modal.clear();
+        self.modal
+            .extend((s.q.iter().zip(&s.qd).zip(&s.qdd)).map(|((&q, &qd), &qdd)| [q, qd, qdd, 0.0]));
+        let modal = &self.modal;
+        let mut c = self.cache.lock().expect("shape cache");
+        for (w, wi) in inputs.iter().enumerate() {
+            let r = c.get(
+                &self.bridge,
+                &*self.track,
+                nb,
+                w,
+                wi.x,
+                |on, psi, irregularity| {
+                    let r = rail_motion(irregularity, wi.vx);
+                    if !on {
+                        return r;
+                    }
+                    // acc[k][d]: component k of the d-th derivative
+                    let mut acc = [[0.0; 4]; 3];
+                    for (k, a) in acc.iter_mut().enumerate() {
+                        for d in 0..3 {
+                            a[d] = r[d][k];
+                        }
+                    }
+                    for (p, m) in psi.iter().zip(modal) {
+                        for (a, pk) in acc.iter_mut().zip(p) {
+                            for (ad, md) in a.iter_mut().zip(m) {
+                                *ad += pk * md;
+                            }
+                        }
+                    }
+                    let mut r = r;
+                    for (k, a) in acc.iter().enumerate() {
+                        for d in 0..3 {
+                            r[d][k] = a[d];
+                        }
+                    }
+                    r
+                },
+            );
+            f(w, &r);
+        }
+    }
+
     /// Deck response at `x` (the deck shapes there kept for the next call: probes stay put).
     pub fn probe(&mut self, x: f64) -> ProbeValues {
         let mut c = self.cache.lock().expect("shape cache");
@@ -281,11 +336,90 @@ impl BridgeSide {
     }
 }
 
-/// Newmark factor of one vehicle for one step size.
+/// Newmark factor of one vehicle for one step size, and the response of its new
+/// acceleration to the rail motion.
 #[derive(Debug, Clone)]
 struct Factor {
     h: f64,
     chol: Option<SparseCholesky>,
+    /// `G_l = −a0 K̂⁻¹ [K_vw,l  C_vw,l]` of each wheelset `l`, `n × 6` column-major, wheelset
+    /// after wheelset: the new acceleration is `v̈₁ = b + Σ_l G_l (u_l, u̇_l)` with `b` from
+    /// the state at the start of the step ([`StepBase`]).
+    gain: Vec<f64>,
+}
+
+impl Factor {
+    fn of(model: &LinearVehicle, sp: &VehicleSparse, h: f64) -> Factor {
+        let nm = Newmark::new(h);
+        let n = model.ndof();
+        let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
+        let chol = SparseCholesky::of(
+            &khat
+                .cholesky()
+                .expect("a0 M + a1 C + K is positive definite"),
+        );
+        let mut gain = vec![0.0; 6 * n * model.wheelsets.len()];
+        let mut unit = [0.0; 3];
+        for (l, g) in gain.chunks_exact_mut(6 * n).enumerate() {
+            for (c, col) in g.chunks_exact_mut(n).enumerate() {
+                let m = if c < 3 { &sp.kvw[l] } else { &sp.cvw[l] };
+                unit.fill(0.0);
+                unit[c % 3] = 1.0;
+                m.mul_add(-nm.a0, &unit, col);
+                chol.solve_mut(col);
+            }
+        }
+        Factor {
+            h,
+            chol: Some(chol),
+            gain,
+        }
+    }
+}
+
+/// The part of a vehicle's step that does not depend on the rail motion: the predictors
+/// `vₚ = v + h v̇ + h²/4 v̈`, `v̇ₚ = v̇ + h/2 v̈` and `b = −a0 K̂⁻¹ (C v̇ₚ + K vₚ)`, kept for the
+/// state (bit for bit) and step size they were made from. An iterating master steps from the
+/// same state again and again; each repetition then costs only the rail-motion terms.
+#[derive(Debug, Clone, Default)]
+struct StepBase {
+    h: f64,
+    /// `(v, v̇, v̈)` of the state, one after the other.
+    key: Vec<f64>,
+    vp: Vec<f64>,
+    vdp: Vec<f64>,
+    b: Vec<f64>,
+}
+
+impl StepBase {
+    fn matches(&self, h: f64, s: &VehicleState) -> bool {
+        let n = s.v.len();
+        self.h.to_bits() == h.to_bits()
+            && self.key.len() == 3 * n
+            && [&s.v, &s.vd, &s.vdd]
+                .iter()
+                .zip(self.key.chunks_exact(n))
+                .all(|(a, b)| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()))
+    }
+
+    fn make(&mut self, h: f64, s: &VehicleState, sp: &VehicleSparse, chol: &SparseCholesky) {
+        let nm = Newmark::new(h);
+        self.h = h;
+        self.key.clear();
+        self.key.extend(s.v.iter().chain(&s.vd).chain(&s.vdd));
+        self.vp.clear();
+        self.vp.extend(
+            (s.v.iter().zip(&s.vd).zip(&s.vdd)).map(|((v, vd), a)| v + h * vd + 0.25 * h * h * a),
+        );
+        self.vdp.clear();
+        self.vdp
+            .extend((s.vd.iter().zip(&s.vdd)).map(|(vd, a)| vd + 0.5 * h * a));
+        self.b.clear();
+        self.b.resize(s.v.len(), 0.0);
+        sp.c.mul_add(-nm.a0, &self.vdp, &mut self.b);
+        sp.k.mul_add(-nm.a0, &self.vp, &mut self.b);
+        chol.solve_mut(&mut self.b);
+    }
 }
 
 /// A vehicle's constant matrices in sparse rows: C, K and each wheelset's K_vw, C_vw.
@@ -295,9 +429,19 @@ struct VehicleSparse {
     k: Csr,
     kvw: Vec<Csr>,
     cvw: Vec<Csr>,
-    /// `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each) for the wheel forces.
-    kwv: Vec<Csr>,
-    cwv: Vec<Csr>,
+    /// The non-zero entries of `K_wv = K_vwᵀ` and `C_wv = C_vwᵀ` (3 rows each) of each
+    /// wheelset, for the wheel forces.
+    wv: Vec<Vec<WheelEntry>>,
+}
+
+/// Row `row` (force component), column `dof` (vehicle DOF) of a wheelset's `K_wv` and `C_wv`,
+/// where either is non-zero.
+#[derive(Debug, Clone, Copy)]
+struct WheelEntry {
+    row: usize,
+    dof: usize,
+    k: f64,
+    c: f64,
 }
 
 impl VehicleSparse {
@@ -307,15 +451,21 @@ impl VehicleSparse {
             k: Csr::of(&model.k),
             kvw: model.wheelsets.iter().map(|w| Csr::of(&w.k_vw)).collect(),
             cvw: model.wheelsets.iter().map(|w| Csr::of(&w.c_vw)).collect(),
-            kwv: model
+            wv: model
                 .wheelsets
                 .iter()
-                .map(|w| Csr::of(&w.k_vw.transpose()))
-                .collect(),
-            cwv: model
-                .wheelsets
-                .iter()
-                .map(|w| Csr::of(&w.c_vw.transpose()))
+                .map(|w| {
+                    let mut e = Vec::new();
+                    for row in 0..3 {
+                        for dof in 0..w.k_vw.nrows() {
+                            let (k, c) = (w.k_vw[(dof, row)], w.c_vw[(dof, row)]);
+                            if k != 0.0 || c != 0.0 {
+                                e.push(WheelEntry { row, dof, k, c });
+                            }
+                        }
+                    }
+                    e
+                })
                 .collect(),
         }
     }
@@ -340,8 +490,11 @@ pub struct TrainSide {
     factors: Arc<Vec<Factor>>,
     /// The vehicles' matrices in sparse rows (derived from the model; shared by clones).
     sparse: Arc<Vec<VehicleSparse>>,
-    /// Scratch vectors of a step per vehicle (vₚ, v̇ₚ, a), sized to its DOFs.
-    work: Vec<[DVector<f64>; 3]>,
+    /// The rail-independent part of the last step of each vehicle (derived data keyed by
+    /// the state it was made from: kept through a rollback, which restores that state).
+    bases: Vec<StepBase>,
+    /// Scratch vector of a step per vehicle (the wind's share of the acceleration).
+    work: Vec<DVector<f64>>,
 }
 
 impl Clone for TrainSide {
@@ -355,11 +508,13 @@ impl Clone for TrainSide {
             body_wind: self.body_wind.clone(),
             factors: self.factors.clone(),
             sparse: self.sparse.clone(),
+            bases: self.bases.clone(),
             work: self.work.clone(),
         }
     }
 
-    /// Reuses this side's allocations (the rollback of an FMU copies states, not models).
+    /// Reuses this side's allocations (the rollback of an FMU copies states, not models;
+    /// the step bases stay, as they are keyed by the state they were made from).
     fn clone_from(&mut self, source: &Self) {
         self.train.clone_from(&source.train);
         self.wheelsets.clone_from(&source.wheelsets);
@@ -390,7 +545,8 @@ impl TrainSide {
             factors: Arc::new(vec![
                 Factor {
                     h: f64::NAN,
-                    chol: None
+                    chol: None,
+                    gain: Vec::new(),
                 };
                 train.vehicles.len()
             ]),
@@ -402,13 +558,11 @@ impl TrainSide {
                     .map(|tv| VehicleSparse::of(&tv.model))
                     .collect(),
             ),
+            bases: vec![StepBase::default(); train.vehicles.len()],
             work: train
                 .vehicles
                 .iter()
-                .map(|tv| {
-                    let n = tv.model.ndof();
-                    [DVector::zeros(n), DVector::zeros(n), DVector::zeros(n)]
-                })
+                .map(|tv| DVector::zeros(tv.model.ndof()))
                 .collect(),
             body_wind: vec![0.0; train.vehicles.len()],
             wheelsets,
@@ -459,52 +613,55 @@ impl TrainSide {
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let model: &LinearVehicle = &tv.model;
             let nw = model.wheelsets.len();
-            if model.ndof() > 0 {
+            let n = model.ndof();
+            if n > 0 {
                 if self.factors[i].h != h {
-                    let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
-                    Arc::make_mut(&mut self.factors)[i] = Factor {
-                        h,
-                        chol: Some(SparseCholesky::of(
-                            &khat
-                                .cholesky()
-                                .expect("a0 M + a1 C + K is positive definite"),
-                        )),
-                    };
+                    Arc::make_mut(&mut self.factors)[i] = Factor::of(model, &self.sparse[i], h);
                 }
                 // Solved for the new acceleration (see BridgeSide::step):
-                // (M + h/2 C + h²/4 K) v̈₁ = F₁ − C v̇ₚ − K vₚ, and M + h/2 C + h²/4 K is
-                // h²/4 times the factorised a0 M + a1 C + K.
-                // In place, without temporaries: vₚ = v + h v̇ + h²/4 v̈, v̇ₚ = v̇ + h/2 v̈,
-                // a = a0 (−C v̇ₚ − K vₚ − Σ (K_vw u + C_vw u̇)) solved with the factor, then
-                // v = vₚ + h²/4 a, v̇ = v̇ₚ + h/2 a, v̈ = a.
+                // (M + h/2 C + h²/4 K) v̈₁ = F₁ − C v̇ₚ − K vₚ − Σ_l (K_vw u + C_vw u̇)_l, and
+                // M + h/2 C + h²/4 K is h²/4 times the factorised K̂ = a0 M + a1 C + K, so
+                // v̈₁ = b + Σ_l G_l (u_l, u̇_l) + a0 K̂⁻¹ F₁ (Factor::gain, StepBase); then
+                // v = vₚ + h²/4 v̈₁, v̇ = v̇ₚ + h/2 v̈₁.
+                let factor = &self.factors[i];
+                let chol = factor.chol.as_ref().expect("factor set above");
                 let s = &mut self.states[i];
-                let [vp, vdp, a] = &mut self.work[i];
-                vp.copy_from(&s.v);
-                vp.axpy(h, &s.vd, 1.0);
-                vp.axpy(0.25 * h * h, &s.vdd, 1.0);
-                vdp.copy_from(&s.vd);
-                vdp.axpy(0.5 * h, &s.vdd, 1.0);
-                let sp = &self.sparse[i];
-                a.fill(0.0);
-                sp.c.mul_add(-nm.a0, vdp.as_slice(), a.as_mut_slice());
-                sp.k.mul_add(-nm.a0, vp.as_slice(), a.as_mut_slice());
-                for (l, r) in self.rails[first..first + nw].iter().enumerate() {
-                    sp.kvw[l].mul_add(-nm.a0, r[0].as_slice(), a.as_mut_slice());
-                    sp.cvw[l].mul_add(-nm.a0, r[1].as_slice(), a.as_mut_slice());
+                let base = &mut self.bases[i];
+                if !base.matches(h, s) {
+                    base.make(h, s, &self.sparse[i], chol);
                 }
-                // the wind on the body beyond its static loads, F₁
-                self.train
-                    .add_wind_force(i, t1, self.body_wind[i], nm.a0, a);
-                self.factors[i]
-                    .chol
-                    .as_ref()
-                    .expect("factor set above")
-                    .solve_mut(a.as_mut_slice());
-                s.v.copy_from(vp);
-                s.v.axpy(0.25 * h * h, a, 1.0);
-                s.vd.copy_from(vdp);
-                s.vd.axpy(0.5 * h, a, 1.0);
-                s.vdd.copy_from(a);
+                let a = s.vdd.as_mut_slice();
+                a.copy_from_slice(&base.b);
+                for (g, r) in factor
+                    .gain
+                    .chunks_exact(6 * n)
+                    .zip(&self.rails[first..first + nw])
+                {
+                    let uv = [r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z];
+                    for (col, &c) in g.chunks_exact(n).zip(&uv) {
+                        for (ai, gi) in a.iter_mut().zip(col) {
+                            *ai += gi * c;
+                        }
+                    }
+                }
+                if self.train.wind.is_some() {
+                    // the wind on the body beyond its static loads, F₁
+                    let w = &mut self.work[i];
+                    w.fill(0.0);
+                    self.train
+                        .add_wind_force(i, t1, self.body_wind[i], nm.a0, w);
+                    chol.solve_mut(w.as_mut_slice());
+                    for (ai, wi) in a.iter_mut().zip(w.iter()) {
+                        *ai += wi;
+                    }
+                }
+                let a = &s.vdd;
+                for (((v, vd), a), (vp, vdp)) in (s.v.iter_mut().zip(s.vd.iter_mut()).zip(a.iter()))
+                    .zip(base.vp.iter().zip(&base.vdp))
+                {
+                    *v = vp + 0.25 * h * h * a;
+                    *vd = vdp + 0.5 * h * a;
+                }
             }
             first += nw;
         }
@@ -512,17 +669,18 @@ impl TrainSide {
     }
 
     /// Force of wheelset `w` on the rail for the current state: eq. (6) as
-    /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the sparse rows of `K_wv`,
-    /// `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
+    /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the non-zero entries of
+    /// `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
     pub fn force(&self, w: usize) -> Vector3<f64> {
         let ws = self.wheelsets[w];
         let s = &self.states[ws.vehicle];
         let [u, ud, udd] = self.rails[w];
         let c = &self.train.vehicles[ws.vehicle].model.wheelsets[ws.local];
         let mut f = c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud;
-        let sp = &self.sparse[ws.vehicle];
-        sp.kwv[ws.local].mul_add(-1.0, s.v.as_slice(), f.as_mut_slice());
-        sp.cwv[ws.local].mul_add(-1.0, s.vd.as_slice(), f.as_mut_slice());
+        let (v, vd) = (s.v.as_slice(), s.vd.as_slice());
+        for e in &self.sparse[ws.vehicle].wv[ws.local] {
+            f[e.row] -= e.k * v[e.dof] + e.c * vd[e.dof];
+        }
         f
     }
 }
