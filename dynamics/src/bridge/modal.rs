@@ -219,13 +219,13 @@ impl ModalBridge {
             }
             Shapes::Nodal { x_m, values, order } => {
                 let (start, w) = lagrange_weights(x_m, *order, x);
-                out.iter_mut().for_each(|o| *o = [0.0; 3]);
+                // flat: the node's 3 n values are contiguous (node-major)
+                let out = out.as_flattened_mut();
+                out.fill(0.0);
                 for (j, wj) in w.iter().enumerate().take((*order).min(x_m.len())) {
-                    let row = &values[(start + j) * n..(start + j + 1) * n];
+                    let row = values[(start + j) * n..(start + j + 1) * n].as_flattened();
                     for (o, v) in out.iter_mut().zip(row) {
-                        o[0] += wj * v[0];
-                        o[1] += wj * v[1];
-                        o[2] += wj * v[2];
+                        *o += wj * v;
                     }
                 }
             }
@@ -258,17 +258,19 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
         Err(i) => i.saturating_sub(1).min(n - 2),
     };
     let start = (i + 1).saturating_sub(p / 2).min(n - p);
+    // l_j = Π_{m≠j} (x − x_m) / Π_{m≠j} (x_j − x_m): one division per weight
     let mut w = [0.0; 8];
     for j in 0..p {
         let xj = xs[start + j];
-        let mut l = 1.0;
+        let (mut num, mut den) = (1.0, 1.0);
         for m in 0..p {
             if m != j {
                 let xm = xs[start + m];
-                l *= (x - xm) / (xj - xm);
+                num *= x - xm;
+                den *= xj - xm;
             }
         }
-        w[j] = l;
+        w[j] = num / den;
     }
     (start, w)
 }
@@ -276,6 +278,26 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Through `order` nodes the weights reproduce every polynomial of degree < order (here
+    /// on uneven nodes, inside, at a node and at both ends).
+    #[test]
+    fn lagrange_weights_reproduce_polynomials_of_their_degree() {
+        let xs = [0.0, 1.5, 2.0, 4.0, 7.0, 7.5, 11.0];
+        for order in 2..=6 {
+            for x in [0.0, 0.3, 2.0, 3.1, 6.9, 11.0] {
+                let (start, w) = lagrange_weights(&xs, order, x);
+                for degree in 0..order as i32 {
+                    let value: f64 = (0..order).map(|j| w[j] * xs[start + j].powi(degree)).sum();
+                    let exact = x.powi(degree);
+                    assert!(
+                        (value - exact).abs() <= 1e-12 * (1.0 + exact.abs()),
+                        "order {order}, x {x}, degree {degree}: {value} vs {exact}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_first_non_finite_number_is_named() {
