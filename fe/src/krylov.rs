@@ -34,7 +34,7 @@
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Accum, Mat, Par, Side};
+use faer::{Accum, Mat, MatRef, Par, Side};
 
 /// Block size.
 const BLOCK: usize = 8;
@@ -81,33 +81,153 @@ impl Csc {
     }
 }
 
+/// `aᵀ b`, summed in four interleaved partial sums (element `i` into sum `i mod 4`), then
+/// `(s₀ + s₁) + (s₂ + s₃)`: a fixed order, independent of the machine, that lets the
+/// compiler keep the sums in vector registers.
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(&a, &b)| a * b).sum()
+    let mut s = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail = ca.remainder().iter().zip(cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            s[k] += x[k] * y[k];
+        }
+    }
+    for (k, (x, y)) in tail.enumerate() {
+        s[k] += x * y;
+    }
+    (s[0] + s[1]) + (s[2] + s[3])
 }
 
-/// The M-orthonormal basis with `M V` beside it.
+/// The M-orthonormal basis with `M V` beside it, column after column (column-major `N × k`).
 struct Basis {
-    v: Vec<Vec<f64>>,
-    mv: Vec<Vec<f64>>,
+    n: usize,
+    v: Vec<f64>,
+    mv: Vec<f64>,
 }
 
 impl Basis {
-    /// M-orthogonalises `w` against the basis (twice) and appends it normalised; false when
-    /// nothing independent of the basis is left of it.
-    fn append(&mut self, mut w: Vec<f64>, m: &Csc) -> bool {
-        let n = w.len();
+    fn len(&self) -> usize {
+        self.v.len() / self.n
+    }
+
+    /// Columns `range` of `V`.
+    fn v(&self, range: std::ops::Range<usize>) -> MatRef<'_, f64> {
+        MatRef::from_column_major_slice(
+            &self.v[range.start * self.n..range.end * self.n],
+            self.n,
+            range.len(),
+        )
+    }
+
+    /// Columns `range` of `M V`.
+    fn mv(&self, range: std::ops::Range<usize>) -> MatRef<'_, f64> {
+        MatRef::from_column_major_slice(
+            &self.mv[range.start * self.n..range.end * self.n],
+            self.n,
+            range.len(),
+        )
+    }
+
+    /// Appends the columns of `block` M-orthonormalised: first twice projected off the basis
+    /// as a block (`W ← W − V (M V)ᵀ W`, matrix products), then each column off the columns
+    /// appended before it, twice, and normalised. A column of which less than 1e-8 of its
+    /// M-norm is left (nothing independent) is replaced by `fresh()`, orthogonalised in
+    /// the same way on its own.
+    fn append_block(&mut self, mut block: Mat<f64>, m: &Csc, mut fresh: impl FnMut() -> Vec<f64>) {
+        let n = self.n;
         let mut mw = vec![0.0; n];
-        m.mul(&w, &mut mw);
-        let norm0 = dot(&w, &mw).max(0.0).sqrt();
+        let norms0: Vec<f64> = (0..block.ncols())
+            .map(|j| {
+                m.mul(
+                    block
+                        .col(j)
+                        .try_as_col_major()
+                        .expect("contiguous")
+                        .as_slice(),
+                    &mut mw,
+                );
+                dot(
+                    block
+                        .col(j)
+                        .try_as_col_major()
+                        .expect("contiguous")
+                        .as_slice(),
+                    &mw,
+                )
+                .max(0.0)
+                .sqrt()
+            })
+            .collect();
+        self.project_out(&mut block, 0..self.len());
+        let first = self.len();
+        for (j, &norm0) in norms0.iter().enumerate() {
+            let w: Vec<f64> = block.col(j).iter().copied().collect();
+            if !self.append_from(w, norm0, first, m) {
+                // an invariant subspace was reached: continue from a fresh direction
+                let mut w = Mat::from_fn(n, 1, {
+                    let f = fresh();
+                    move |i, _| f[i]
+                });
+                m.mul(
+                    w.col(0).try_as_col_major().expect("contiguous").as_slice(),
+                    &mut mw,
+                );
+                let norm0 = dot(
+                    w.col(0).try_as_col_major().expect("contiguous").as_slice(),
+                    &mw,
+                )
+                .max(0.0)
+                .sqrt();
+                self.project_out(&mut w, 0..first);
+                self.append_from(w.col(0).iter().copied().collect(), norm0, first, m);
+            }
+        }
+    }
+
+    /// `W ← W − V (M V)ᵀ W` twice, over the basis columns `range`.
+    fn project_out(&self, w: &mut Mat<f64>, range: std::ops::Range<usize>) {
+        if range.is_empty() {
+            return;
+        }
+        let mut c = Mat::<f64>::zeros(range.len(), w.ncols());
+        for _pass in 0..2 {
+            matmul(
+                c.as_mut(),
+                Accum::Replace,
+                self.mv(range.clone()).transpose(),
+                w.as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            matmul(
+                w.as_mut(),
+                Accum::Add,
+                self.v(range.clone()),
+                c.as_ref(),
+                -1.0,
+                Par::Seq,
+            );
+        }
+    }
+
+    /// M-orthogonalises `w` (M-norm `norm0` before any projection) against the basis columns
+    /// from `first` on (twice) and appends it normalised; false when nothing independent is
+    /// left of it.
+    fn append_from(&mut self, mut w: Vec<f64>, norm0: f64, first: usize, m: &Csc) -> bool {
+        let n = self.n;
         if !(norm0 > 0.0 && norm0.is_finite()) {
             return false;
         }
         for _pass in 0..2 {
-            for (vj, mvj) in self.v.iter().zip(&self.mv) {
-                let c = dot(mvj, &w);
-                w.iter_mut().zip(vj).for_each(|(w, &v)| *w -= c * v);
+            for j in first..self.len() {
+                let c = dot(&self.mv[j * n..(j + 1) * n], &w);
+                w.iter_mut()
+                    .zip(&self.v[j * n..(j + 1) * n])
+                    .for_each(|(w, &v)| *w -= c * v);
             }
         }
+        let mut mw = vec![0.0; n];
         m.mul(&w, &mut mw);
         let norm = dot(&w, &mw).max(0.0).sqrt();
         if norm.is_nan() || norm <= 1e-8 * norm0 {
@@ -115,13 +235,9 @@ impl Basis {
         }
         w.iter_mut().for_each(|w| *w /= norm);
         mw.iter_mut().for_each(|w| *w /= norm);
-        self.v.push(w);
-        self.mv.push(mw);
+        self.v.extend(w);
+        self.mv.extend(mw);
         true
-    }
-
-    fn matrix(cols: &[Vec<f64>]) -> Mat<f64> {
-        Mat::from_fn(cols[0].len(), cols.len(), |i, j| cols[j][i])
     }
 }
 
@@ -163,28 +279,24 @@ pub(crate) fn lowest(k: &Mat<f64>, m: &Mat<f64>, nev: usize) -> Option<(Vec<f64>
         .ok()?
         .sp_cholesky(Side::Lower)
         .ok()?;
-    let solve = |cols: &[Vec<f64>]| -> Mat<f64> {
-        let mut x = Basis::matrix(cols);
+    let solve = |cols: MatRef<'_, f64>| -> Mat<f64> {
+        let mut x = cols.to_owned();
         llt.solve_in_place(x.as_mut());
         x
     };
     let mut basis = Basis {
+        n,
         v: Vec::new(),
         mv: Vec::new(),
     };
     let mut random = Random(0x9e37_79b9_7f4a_7c15);
-    let mut block: Vec<Vec<f64>> = (0..BLOCK).map(|_| random.vector(n)).collect();
+    let columns: Vec<Vec<f64>> = (0..BLOCK).map(|_| random.vector(n)).collect();
+    let mut block = Mat::from_fn(n, BLOCK, |i, j| columns[j][i]);
     let mut next_check = 2 * nev + BLOCK;
     loop {
-        let first = basis.v.len();
-        for w in block.drain(..) {
-            if !basis.append(w, &mc) {
-                // an invariant subspace was reached: continue from a fresh direction
-                let fresh = random.vector(n);
-                basis.append(fresh, &mc);
-            }
-        }
-        let size = basis.v.len();
+        let first = basis.len();
+        basis.append_block(block, &mc, || random.vector(n));
+        let size = basis.len();
         if size >= n / 2 || size == first {
             return None;
         }
@@ -194,10 +306,7 @@ pub(crate) fn lowest(k: &Mat<f64>, m: &Mat<f64>, nev: usize) -> Option<(Vec<f64>
             }
             next_check = size + BLOCK.max(size / 4);
         }
-        let x = solve(&basis.mv[first..size]);
-        block = (0..x.ncols())
-            .map(|j| (0..n).map(|i| x[(i, j)]).collect())
-            .collect();
+        block = solve(basis.mv(first..size));
     }
 }
 
@@ -209,13 +318,13 @@ pub(crate) fn lowest(k: &Mat<f64>, m: &Mat<f64>, nev: usize) -> Option<(Vec<f64>
 fn ritz(
     basis: &Basis,
     mc: &Csc,
-    solve: &dyn Fn(&[Vec<f64>]) -> Mat<f64>,
+    solve: &dyn Fn(MatRef<'_, f64>) -> Mat<f64>,
     nev: usize,
 ) -> Option<(Vec<f64>, Mat<f64>)> {
-    let n = basis.v[0].len();
-    let size = basis.v.len();
-    let x = solve(&basis.mv);
-    let mvm = Basis::matrix(&basis.mv);
+    let n = basis.n;
+    let size = basis.len();
+    let x = solve(basis.mv(0..size));
+    let mvm = basis.mv(0..size);
     let mut h = Mat::<f64>::zeros(size, size);
     matmul(
         h.as_mut(),
@@ -235,9 +344,9 @@ fn ritz(
     }
     let lambda: Vec<f64> = theta.iter().map(|t| 1.0 / t).collect();
     let y = evd.U().subcols(0, nev);
-    let v = Basis::matrix(&basis.v);
+    let v = basis.v(0..size);
     let mut phi = Mat::<f64>::zeros(n, nev);
-    matmul(phi.as_mut(), Accum::Replace, v.as_ref(), y, 1.0, Par::Seq);
+    matmul(phi.as_mut(), Accum::Replace, v, y, 1.0, Par::Seq);
     let mut xphi = Mat::<f64>::zeros(n, nev);
     matmul(xphi.as_mut(), Accum::Replace, x.as_ref(), y, 1.0, Par::Seq);
     let mut zj = vec![0.0; n];
@@ -253,4 +362,20 @@ fn ritz(
         }
     }
     Some((lambda, phi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dot;
+
+    /// Integers are summed exactly in any order: every length through the tail cases.
+    #[test]
+    fn dot_equals_the_exact_sum_of_products() {
+        for n in 0..13 {
+            let a: Vec<f64> = (0..n).map(|i| (i as f64) - 3.0).collect();
+            let b: Vec<f64> = (0..n).map(|i| (2 * i + 1) as f64).collect();
+            let exact: i64 = (0..n as i64).map(|i| (i - 3) * (2 * i + 1)).sum();
+            assert_eq!(dot(&a, &b), exact as f64, "n = {n}");
+        }
+    }
 }
