@@ -25,6 +25,7 @@ pub mod hslm;
 pub mod interface;
 pub mod newmark;
 pub mod response;
+pub mod simd;
 pub mod solver;
 pub mod sparse;
 pub mod track;

@@ -196,10 +196,14 @@ impl ModalBridge {
                 let theta = std::f64::consts::PI * (x - self.x_start_m) / span_m;
                 let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
                 // sin(kθ) by the Chebyshev recurrence sin((k+1)θ) = 2 cos θ sin(kθ) − sin((k−1)θ).
-                let mut sines = [0.0f64; 256];
-                let mut owned;
-                let s: &mut [f64] = if kmax < 256 {
-                    &mut sines[..=kmax]
+                // (a short array for the common few half-waves: zeroing costs by its length)
+                let (mut few, mut many, mut owned);
+                let s: &mut [f64] = if kmax < 32 {
+                    few = [0.0f64; 32];
+                    &mut few[..=kmax]
+                } else if kmax < 256 {
+                    many = [0.0f64; 256];
+                    &mut many[..=kmax]
                 } else {
                     owned = vec![0.0; kmax + 1];
                     &mut owned[..]
@@ -224,9 +228,7 @@ impl ModalBridge {
                 out.fill(0.0);
                 for (j, wj) in w.iter().enumerate().take((*order).min(x_m.len())) {
                     let row = values[(start + j) * n..(start + j + 1) * n].as_flattened();
-                    for (o, v) in out.iter_mut().zip(row) {
-                        *o += wj * v;
-                    }
+                    crate::simd::axpy(out, *wj, row);
                 }
             }
         }

@@ -308,13 +308,7 @@ impl BridgeSide {
                             a[d] = r[d][k];
                         }
                     }
-                    for (p, m) in psi.iter().zip(modal) {
-                        for (a, pk) in acc.iter_mut().zip(p) {
-                            for (ad, md) in a.iter_mut().zip(m) {
-                                *ad += pk * md;
-                            }
-                        }
-                    }
+                    crate::simd::rail_accumulate(&mut acc, psi, modal);
                     let mut r = r;
                     for (k, a) in acc.iter().enumerate() {
                         for d in 0..3 {
@@ -639,9 +633,7 @@ impl TrainSide {
                 {
                     let uv = [r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z];
                     for (col, &c) in g.chunks_exact(n).zip(&uv) {
-                        for (ai, gi) in a.iter_mut().zip(col) {
-                            *ai += gi * c;
-                        }
+                        crate::simd::axpy(a, c, col);
                     }
                 }
                 if self.train.wind.is_some() {
