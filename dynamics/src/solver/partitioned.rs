@@ -20,7 +20,7 @@ use crate::sparse::{Csr, SparseCholesky};
 use crate::track::{rail_motion, RailProfile};
 use crate::train::{Train, WheelsetRef};
 use crate::vehicle::LinearVehicle;
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DVector, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
 use tbi_track::RailIrregularity;
@@ -423,9 +423,40 @@ struct VehicleSparse {
     k: Csr,
     kvw: Vec<Csr>,
     cvw: Vec<Csr>,
-    /// The non-zero entries of `K_wv = K_vwᵀ` and `C_wv = C_vwᵀ` (3 rows each) of each
-    /// wheelset, for the wheel forces.
-    wv: Vec<Vec<WheelEntry>>,
+}
+
+/// What the force of one wheelset on the rail (eq. 6) needs, in one place: its vehicle, its
+/// own blocks and the non-zero entries of `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each).
+#[derive(Debug, Clone)]
+struct WheelForce {
+    vehicle: usize,
+    p0: Vector3<f64>,
+    m_w: Matrix3<f64>,
+    k_ww: Matrix3<f64>,
+    c_ww: Matrix3<f64>,
+    entries: Vec<WheelEntry>,
+}
+
+impl WheelForce {
+    fn of(vehicle: usize, c: &crate::vehicle::WheelsetCoupling) -> Self {
+        let mut entries = Vec::new();
+        for row in 0..3 {
+            for dof in 0..c.k_vw.nrows() {
+                let (k, cv) = (c.k_vw[(dof, row)], c.c_vw[(dof, row)]);
+                if k != 0.0 || cv != 0.0 {
+                    entries.push(WheelEntry { row, dof, k, c: cv });
+                }
+            }
+        }
+        WheelForce {
+            vehicle,
+            p0: c.p0,
+            m_w: c.m_w,
+            k_ww: c.k_ww,
+            c_ww: c.c_ww,
+            entries,
+        }
+    }
 }
 
 /// Row `row` (force component), column `dof` (vehicle DOF) of a wheelset's `K_wv` and `C_wv`,
@@ -445,22 +476,6 @@ impl VehicleSparse {
             k: Csr::of(&model.k),
             kvw: model.wheelsets.iter().map(|w| Csr::of(&w.k_vw)).collect(),
             cvw: model.wheelsets.iter().map(|w| Csr::of(&w.c_vw)).collect(),
-            wv: model
-                .wheelsets
-                .iter()
-                .map(|w| {
-                    let mut e = Vec::new();
-                    for row in 0..3 {
-                        for dof in 0..w.k_vw.nrows() {
-                            let (k, c) = (w.k_vw[(dof, row)], w.c_vw[(dof, row)]);
-                            if k != 0.0 || c != 0.0 {
-                                e.push(WheelEntry { row, dof, k, c });
-                            }
-                        }
-                    }
-                    e
-                })
-                .collect(),
         }
     }
 }
@@ -484,6 +499,8 @@ pub struct TrainSide {
     factors: Arc<Vec<Factor>>,
     /// The vehicles' matrices in sparse rows (derived from the model; shared by clones).
     sparse: Arc<Vec<VehicleSparse>>,
+    /// Per wheelset, what its force needs (derived from the model; shared by clones).
+    forces: Arc<Vec<WheelForce>>,
     /// The rail-independent part of the last step of each vehicle (derived data keyed by
     /// the state it was made from: kept through a rollback, which restores that state).
     bases: Vec<StepBase>,
@@ -502,6 +519,7 @@ impl Clone for TrainSide {
             body_wind: self.body_wind.clone(),
             factors: self.factors.clone(),
             sparse: self.sparse.clone(),
+            forces: self.forces.clone(),
             bases: self.bases.clone(),
             work: self.work.clone(),
         }
@@ -518,6 +536,7 @@ impl Clone for TrainSide {
         self.body_wind.clone_from(&source.body_wind);
         self.factors.clone_from(&source.factors);
         self.sparse.clone_from(&source.sparse);
+        self.forces.clone_from(&source.forces);
     }
 }
 
@@ -550,6 +569,15 @@ impl TrainSide {
                     .vehicles
                     .iter()
                     .map(|tv| VehicleSparse::of(&tv.model))
+                    .collect(),
+            ),
+            forces: Arc::new(
+                wheelsets
+                    .iter()
+                    .map(|ws| {
+                        let c = &train.vehicles[ws.vehicle].model.wheelsets[ws.local];
+                        WheelForce::of(ws.vehicle, c)
+                    })
                     .collect(),
             ),
             bases: vec![StepBase::default(); train.vehicles.len()],
@@ -664,13 +692,12 @@ impl TrainSide {
     /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the non-zero entries of
     /// `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
     pub fn force(&self, w: usize) -> Vector3<f64> {
-        let ws = self.wheelsets[w];
-        let s = &self.states[ws.vehicle];
+        let c = &self.forces[w];
+        let s = &self.states[c.vehicle];
         let [u, ud, udd] = self.rails[w];
-        let c = &self.train.vehicles[ws.vehicle].model.wheelsets[ws.local];
         let mut f = c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud;
         let (v, vd) = (s.v.as_slice(), s.vd.as_slice());
-        for e in &self.sparse[ws.vehicle].wv[ws.local] {
+        for e in &c.entries {
             f[e.row] -= e.k * v[e.dof] + e.c * vd[e.dof];
         }
         f
