@@ -147,8 +147,11 @@ fn write_zip(
 ) -> io::Result<()> {
     let file = fs::File::create(path)?;
     let mut zip = zip::ZipWriter::new(io::BufWriter::new(file));
+    // deflate level 3: on the Tsing Ma bridge FMU (shared library and megabytes of track
+    // record) about 40 % less packing time than the default level 6 for 3 % more size
     let file_options = SimpleFileOptions::default()
         .compression_method(CompressionMethod::Deflated)
+        .compression_level(Some(3))
         .unix_permissions(0o644);
     let library_options = file_options.unix_permissions(0o755);
     let dir_options = SimpleFileOptions::default().unix_permissions(0o755);
