@@ -14,6 +14,11 @@ pub use tbi_track::RailIrregularity;
 /// A rail irregularity profile along the track.
 pub trait RailProfile: Send + Sync + Debug {
     fn at(&self, x: f64) -> RailIrregularity;
+
+    /// Third derivatives `d³/dx³` of (lateral, roll, vertical) — the rail DOF order — at `x`:
+    /// the x-derivative of the rail acceleration `v² r″` a wheelset sees
+    /// ([`rail_motion_slope`]).
+    fn third_derivative(&self, x: f64) -> Vector3<f64>;
 }
 
 /// A perfectly smooth track.
@@ -23,6 +28,10 @@ pub struct Smooth;
 impl RailProfile for Smooth {
     fn at(&self, _x: f64) -> RailIrregularity {
         RailIrregularity::default()
+    }
+
+    fn third_derivative(&self, _x: f64) -> Vector3<f64> {
+        Vector3::zeros()
     }
 }
 
@@ -34,6 +43,21 @@ pub fn rail_motion(r: &RailIrregularity, v: f64) -> [Vector3<f64>; 3] {
         Vector3::new(r.lateral[1], r.cross_level[1], r.vertical[1]) * v,
         Vector3::new(r.lateral[2], r.cross_level[2], r.vertical[2]) * (v * v),
     ]
+}
+
+/// The partial derivatives of [`rail_motion`] `(u, u̇, ü) = (r, v r′, v² r″)` with respect to
+/// the position, `∂/∂x = (r′, v r″, v² r‴)`, and to the speed, `∂/∂v = (0, r′, 2 v r″)`, with
+/// `r‴` the profile's [`RailProfile::third_derivative`] at the same point.
+pub fn rail_motion_slope(
+    r: &RailIrregularity,
+    third: Vector3<f64>,
+    v: f64,
+) -> ([Vector3<f64>; 3], [Vector3<f64>; 3]) {
+    let d = |k: usize| Vector3::new(r.lateral[k], r.cross_level[k], r.vertical[k]);
+    (
+        [d(1), d(2) * v, third * (v * v)],
+        [Vector3::zeros(), d(1), d(2) * (2.0 * v)],
+    )
 }
 
 /// Wheel hunting (eq. 7) as seen in time: `(Y_h, Ẏ_h, Ÿ_h)` of wheelset `w` after travelling
@@ -49,5 +73,15 @@ pub fn hunting_motion(h: &tbi_track::WheelHunting, w: usize, s: f64, v: f64) -> 
 impl RailProfile for tbi_track::Irregularity {
     fn at(&self, x: f64) -> RailIrregularity {
         tbi_track::Irregularity::at(self, x)
+    }
+
+    fn third_derivative(&self, x: f64) -> Vector3<f64> {
+        match self.profile() {
+            Some(p) => {
+                let [lateral, vertical, cross_level] = p.third_derivative(x);
+                Vector3::new(lateral, cross_level, vertical)
+            }
+            None => Vector3::zeros(),
+        }
     }
 }

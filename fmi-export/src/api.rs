@@ -732,14 +732,32 @@ pub unsafe fn de_serialize_fmu_state<M: FmuModel>(
     }
 }
 
-/// `fmi2GetDirectionalDerivative`: not provided (`providesDirectionalDerivative="false"`).
+/// `fmi2GetDirectionalDerivative`: the model's [`FmuModel::directional_derivative`] when it
+/// provides them ([`FmuModel::PROVIDES_DIRECTIONAL_DERIVATIVE`]), else fmi2Error.
 ///
 /// # Safety
-/// See the module documentation.
-pub unsafe fn get_directional_derivative<M: FmuModel>(c: fmi2Component) -> fmi2Status {
+/// See the module documentation; the arrays must hold `n_unknown` resp. `n_known` elements.
+pub unsafe fn get_directional_derivative<M: FmuModel>(
+    c: fmi2Component,
+    v_unknown_ref: *const fmi2ValueReference,
+    n_unknown: usize,
+    v_known_ref: *const fmi2ValueReference,
+    n_known: usize,
+    dv_known: *const fmi2Real,
+    dv_unknown: *mut fmi2Real,
+) -> fmi2Status {
     unsafe {
-        call::<M>(c, Function::GetDirectionalDerivative, |_| {
-            Err("directional derivatives are not provided (providesDirectionalDerivative=\"false\")".to_owned())
+        call::<M>(c, Function::GetDirectionalDerivative, |inst| {
+            if !M::PROVIDES_DIRECTIONAL_DERIVATIVE {
+                return Err("directional derivatives are not provided \
+                            (providesDirectionalDerivative=\"false\")"
+                    .to_owned());
+            }
+            let unknowns = slice(v_unknown_ref, n_unknown, "vUnknown_ref[]")?;
+            let knowns = slice(v_known_ref, n_known, "vKnown_ref[]")?;
+            let seed = slice(dv_known, n_known, "dvKnown[]")?;
+            let out = slice_mut(dv_unknown, n_unknown, "dvUnknown[]")?;
+            inst.directional_derivative(unknowns, knowns, seed, out)
         })
     }
 }

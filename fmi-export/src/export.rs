@@ -319,14 +319,24 @@ macro_rules! export_fmi2 {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
                 c: fmi2Component,
-                _v_unknown_ref: *const fmi2ValueReference,
-                _n_unknown: usize,
-                _v_known_ref: *const fmi2ValueReference,
-                _n_known: usize,
-                _dv_known: *const fmi2Real,
-                _dv_unknown: *mut fmi2Real,
+                v_unknown_ref: *const fmi2ValueReference,
+                n_unknown: usize,
+                v_known_ref: *const fmi2ValueReference,
+                n_known: usize,
+                dv_known: *const fmi2Real,
+                dv_unknown: *mut fmi2Real,
             ) -> fmi2Status {
-                unsafe { __api::get_directional_derivative::<$model>(c) }
+                unsafe {
+                    __api::get_directional_derivative::<$model>(
+                        c,
+                        v_unknown_ref,
+                        n_unknown,
+                        v_known_ref,
+                        n_known,
+                        dv_known,
+                        dv_unknown,
+                    )
+                }
             }
 
             #[unsafe(no_mangle)]

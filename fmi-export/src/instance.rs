@@ -212,6 +212,32 @@ impl<M: FmuModel> Instance<M> {
         Ok(Status::Ok)
     }
 
+    pub(crate) fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<Status, String> {
+        if let Some((r, v)) = knowns.iter().zip(seed).find(|(_, v)| !v.is_finite()) {
+            return Err(format!(
+                "the seed of Real value reference {r} is the non-finite value {v}"
+            ));
+        }
+        self.model
+            .directional_derivative(unknowns, knowns, seed, out)?;
+        if let Some((r, v)) = unknowns
+            .iter()
+            .zip(out.iter())
+            .find(|(_, v)| !v.is_finite())
+        {
+            return Err(format!(
+                "the derivative of Real value reference {r} is the non-finite value {v}"
+            ));
+        }
+        Ok(Status::Ok)
+    }
+
     pub(crate) fn set_real(&mut self, vr: &[u32], values: &[f64]) -> Result<Status, String> {
         if let Some((r, v)) = vr.iter().zip(values).find(|(_, v)| !v.is_finite()) {
             return Err(format!(

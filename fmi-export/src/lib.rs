@@ -72,11 +72,22 @@ pub struct CoSimulationCapabilities {
     pub can_get_and_set_fmu_state: bool,
     /// `canSerializeFMUstate`: true.
     pub can_serialize_fmu_state: bool,
-    /// `providesDirectionalDerivative`: false (`fmi2GetDirectionalDerivative` → fmi2Error).
+    /// `providesDirectionalDerivative`: the model's
+    /// [`FmuModel::PROVIDES_DIRECTIONAL_DERIVATIVE`] ([`capabilities_of`]); false in
+    /// [`CAPABILITIES`].
     pub provides_directional_derivative: bool,
 }
 
-/// The capabilities of every FMU exported with [`export_fmi2!`].
+/// The capabilities of an FMU exported with [`export_fmi2!`] around the model `M`.
+pub const fn capabilities_of<M: FmuModel>() -> CoSimulationCapabilities {
+    CoSimulationCapabilities {
+        provides_directional_derivative: M::PROVIDES_DIRECTIONAL_DERIVATIVE,
+        ..CAPABILITIES
+    }
+}
+
+/// The capabilities of every FMU exported with [`export_fmi2!`] whose model provides no
+/// directional derivatives.
 pub const CAPABILITIES: CoSimulationCapabilities = CoSimulationCapabilities {
     needs_execution_tool: false,
     can_handle_variable_communication_step_size: true,

@@ -108,6 +108,27 @@ pub trait FmuModel: Clone + Send + 'static {
         Err(format!("unknown String value reference {vr}"))
     }
 
+    /// `providesDirectionalDerivative`: whether [`FmuModel::directional_derivative`] is
+    /// implemented. Default: false (`fmi2GetDirectionalDerivative` → fmi2Error).
+    const PROVIDES_DIRECTIONAL_DERIVATIVE: bool = false;
+
+    /// `fmi2GetDirectionalDerivative`: `out = (∂unknowns/∂knowns) · seed`, the partial
+    /// derivatives at the current point (in Co-Simulation, at the communication point: the
+    /// direct feedthrough of the inputs to the outputs, not a sensitivity of a step). Called
+    /// only when [`FmuModel::PROVIDES_DIRECTIONAL_DERIVATIVE`] is true; `unknowns` and `knowns`
+    /// are value references as the importer gives them (the model refuses those that are not
+    /// outputs, resp. inputs), `seed` has one value per known, `out` one per unknown.
+    fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), String> {
+        let _ = (unknowns, knowns, seed, out);
+        Err("directional derivatives are not provided".to_owned())
+    }
+
     /// Advance from `t` to `t + h` (one communication step). Inputs set before the call
     /// are the values at `t + h`.
     fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, String>;

@@ -24,7 +24,7 @@ use tbi_dynamics::interface::{
     rail_values, wheel_channel, Block, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
     TRACK_RESOURCE,
 };
-use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, WheelInput};
+use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, ProbeValues, WheelInput};
 use tbi_dynamics::track::{RailProfile, Smooth};
 
 /// GUID of a bridge FMU with these resource bytes (`bridge.json` then `track.csv`).
@@ -281,6 +281,71 @@ impl FmuModel for BridgeFmu {
             }
             None => Err(format!("unknown value reference {vr}")),
         }
+    }
+
+    /// The rail motion under wheelset i has direct feedthrough from `ws[i].x` and `ws[i].vx`
+    /// at a communication point; in initialisation mode the accelerations (rail motion and
+    /// probes) also follow every load and the turbulence inputs
+    /// ([`BridgeSide::linearised_rails`]). Every other partial derivative is zero.
+    const PROVIDES_DIRECTIONAL_DERIVATIVE: bool = true;
+
+    fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), String> {
+        let l = self.layout.clone();
+        let mut seeds = vec![WheelInput::default(); l.n_wheelsets()];
+        let mut wind_seed = self
+            .side
+            .deck_wind
+            .as_ref()
+            .map(|d| vec![[0.0; 2]; d.len()]);
+        for (&vr, &s) in knowns.iter().zip(seed) {
+            match l.decode(vr) {
+                Some(BridgeVar::Wheel { w, k }) => *wheel_channel(&mut seeds[w], k) += s,
+                Some(BridgeVar::Wind { j, k }) => {
+                    wind_seed.as_mut().expect("a wind input has its deck point")[j][k] += s
+                }
+                _ => {
+                    return Err(format!(
+                        "vKnown_ref: value reference {vr} is not an input of the bridge FMU"
+                    ))
+                }
+            }
+        }
+        self.refresh();
+        let initializing = !self.initialized;
+        let mut d = vec![0.0; l.n_outputs()];
+        let dqdd = self.side.linearised_rails(
+            &self.inputs,
+            &seeds,
+            wind_seed.as_deref(),
+            initializing,
+            |w, r| d[l.rail_out.slots(w)].copy_from_slice(&rail_values(r)),
+        );
+        if initializing {
+            let nb = dqdd.len();
+            let (zero, mut shapes) = (vec![0.0; nb], vec![[0.0; 3]; nb]);
+            for (p, probe) in self.res.probes.iter().enumerate() {
+                self.side.bridge.deck_shapes(probe.x_m, &mut shapes);
+                let v = ProbeValues::from_shapes(&shapes, &zero, &dqdd);
+                d[l.probe_out.slots(p)].copy_from_slice(&probe_channels(&v));
+            }
+        }
+        for (o, &vr) in out.iter_mut().zip(unknowns) {
+            match l.decode(vr) {
+                Some(BridgeVar::Output(slot)) => *o = d[slot],
+                _ => {
+                    return Err(format!(
+                        "vUnknown_ref: value reference {vr} is not an output of the bridge FMU"
+                    ))
+                }
+            }
+        }
+        Ok(())
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {

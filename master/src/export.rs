@@ -163,10 +163,9 @@ fn description_xml(
     what: &str,
     vars: &[Var],
     declared: &Declared,
-    stop: f64,
-    step: f64,
+    (stop, step): (f64, f64),
+    caps: fmi_export::CoSimulationCapabilities,
 ) -> Result<String, String> {
-    let caps = fmi_export::CAPABILITIES;
     let mut b = ModelDescriptionBuilder::new(id, guid, id)
         .description(what)
         .generation_tool(format!("tbi {}", env!("CARGO_PKG_VERSION")))
@@ -294,14 +293,14 @@ pub fn export_with(
         libs: &libs,
         experiment,
     };
-    package.fmu(
+    package.fmu::<fmu_bridge::BridgeFmu>(
         &bridge_path,
         (BRIDGE_ID, &bridge_guid, fmu_bridge::layout::DESCRIPTION),
         &bridge_layout.variables(&bridge_res),
         || fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _),
         &bridge_files,
     )?;
-    package.fmu(
+    package.fmu::<fmu_train::TrainFmu>(
         &train_path,
         (TRAIN_ID, &train_guid, fmu_train::layout::DESCRIPTION),
         &train_layout.variables(&train_res),
@@ -333,7 +332,7 @@ pub fn export_with(
             let json = serde_json::to_vec_pretty(&res).map_err(|e| e.to_string())?;
             let guid = fmi_export::guid(WIND_ID, BUILD_ID, &json);
             let path = out.join("wind.fmu");
-            package.fmu(
+            package.fmu::<fmu_wind::WindFmu>(
                 &path,
                 (WIND_ID, &guid, fmu_wind::layout::DESCRIPTION),
                 &layout.variables(&res),
@@ -389,7 +388,7 @@ impl Packaging<'_> {
     /// Write the FMU `(id, guid, description)` with these variables, dependencies (probed
     /// only when it is written) and resource files to `path`, unless the file there has this
     /// GUID and shared object already.
-    fn fmu(
+    fn fmu<M: fmi_export::FmuModel>(
         &self,
         path: &Path,
         (id, guid, what): (&str, &str, &str),
@@ -402,7 +401,8 @@ impl Packaging<'_> {
             return Ok(());
         }
         let (stop, step) = self.experiment;
-        let xml = description_xml(id, guid, what, vars, &dependencies()?, stop, step)?;
+        let caps = fmi_export::capabilities_of::<M>();
+        let xml = description_xml(id, guid, what, vars, &dependencies()?, (stop, step), caps)?;
         let doc = DOC.replace("{TITLE}", id).replace("{WHAT}", what);
         write_fmu(path, &xml, id, &so, files, Some(&doc))
             .map_err(|e| format!("{}: {e}", path.display()))

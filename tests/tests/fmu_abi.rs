@@ -316,6 +316,10 @@ fn harness(u: &Unpacked, input: &str, output: &str, input_value: f64) {
     );
     cfg.input_value = input_value;
     cfg.step_size = H;
+    cfg.provides_directional_derivative =
+        u.md.co_simulation
+            .as_ref()
+            .is_some_and(|cs| cs.provides_directional_derivative);
     let report = run_harness(&cfg);
     println!(
         "{} (input {input}, output {output}):\n{report}",

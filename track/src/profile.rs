@@ -104,6 +104,27 @@ impl Profile {
         }
     }
 
+    /// Third derivative `d³r/dx³` of each component at `x`, indexed by
+    /// [`Component::index`](crate::Component::index) (1/m², 1/m², rad/m³): constant on each
+    /// interval of the cubic (that of the interval to the right at a node), zero beyond the
+    /// ends of a non-periodic profile — the derivative of [`Profile::at`]'s second
+    /// derivative wherever that is differentiable.
+    pub fn third_derivative(&self, x: f64) -> [f64; 3] {
+        let n = self.x.len();
+        let (x0, x1) = (self.x[0], self.x[n - 1]);
+        let u = if x >= x0 && x <= x1 {
+            x
+        } else if x.is_nan() {
+            return [f64::NAN; 3];
+        } else if self.periodic {
+            (x0 + (x - x0).rem_euclid(x1 - x0)).clamp(x0, x1)
+        } else {
+            return [0.0; 3];
+        };
+        let c = &self.coef[self.locate(u)];
+        [6.0 * c[0][3], 6.0 * c[1][3], 6.0 * c[2][3]]
+    }
+
     #[inline]
     fn eval_inside(&self, x: f64) -> RailIrregularity {
         let i = self.locate(x);

@@ -241,17 +241,78 @@ impl ModalBridge {
         if !self.deck_shapes(x, out) {
             return false;
         }
+        self.deck_to_rail(out);
+        true
+    }
+
+    /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` in place (eq. 8).
+    fn deck_to_rail(&self, out: &mut [[f64; 3]]) {
         for o in out.iter_mut() {
             let [h, v, t] = *o;
             *o = [h + self.h4_m * t, t, v + self.e_m * t];
         }
+    }
+
+    /// Slopes of the deck shapes, `out[n] = d/dx (φ_h, φ_v, φ_θ)` at `x` (1/m per unit modal
+    /// coordinate): for sine shapes `a k π/L cos(k π (x − x₀)/L)`; for nodal shapes the
+    /// derivative of the Lagrange interpolant [`Self::deck_shapes`] uses (of the stencil to
+    /// the right at a node, where the interpolant's slope may jump). Returns false (zeros)
+    /// off the deck.
+    pub fn deck_shape_slopes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
+        let n = self.n_modes();
+        debug_assert_eq!(out.len(), n);
+        out.iter_mut().for_each(|o| *o = [0.0; 3]);
+        if !self.on_deck(x) {
+            return false;
+        }
+        match &self.shapes {
+            Shapes::Sine {
+                span_m,
+                half_waves,
+                amplitudes,
+            } => {
+                let theta = std::f64::consts::PI * (x - self.x_start_m) / span_m;
+                let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
+                // cos(kθ) by the Chebyshev recurrence cos((k+1)θ) = 2 cos θ cos(kθ) − cos((k−1)θ)
+                let mut c = vec![1.0; kmax + 1];
+                if kmax >= 1 {
+                    c[1] = theta.cos();
+                    for k in 2..=kmax {
+                        c[k] = 2.0 * c[1] * c[k - 1] - c[k - 2];
+                    }
+                }
+                for (i, o) in out.iter_mut().enumerate() {
+                    let k = half_waves[i] as usize;
+                    let d = k as f64 * std::f64::consts::PI / span_m * c[k];
+                    let a = amplitudes[i];
+                    *o = [a[0] * d, a[1] * d, a[2] * d];
+                }
+            }
+            Shapes::Nodal { x_m, values, order } => {
+                let (start, w) = lagrange_weight_slopes(x_m, *order, x);
+                let out = out.as_flattened_mut();
+                for (j, wj) in w.iter().enumerate().take((*order).min(x_m.len())) {
+                    let row = values[(start + j) * n..(start + j + 1) * n].as_flattened();
+                    crate::simd::axpy(out, *wj, row);
+                }
+            }
+        }
+        true
+    }
+
+    /// Slopes of the rail shapes, `dΨ/dx` at `x` ([`Self::deck_shape_slopes`] through eq. 8).
+    /// Returns false (zeros) off the deck.
+    pub fn rail_shape_slopes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
+        if !self.deck_shape_slopes(x, out) {
+            return false;
+        }
+        self.deck_to_rail(out);
         true
     }
 }
 
-/// Lagrange interpolation weights through `order` consecutive nodes around `x`.
-/// Returns the first node index and the weights (up to 8 nodes).
-pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
+/// The first node and the number of nodes of the Lagrange stencil around `x`.
+fn lagrange_stencil(xs: &[f64], order: usize, x: f64) -> (usize, usize) {
     let n = xs.len();
     let p = order.clamp(2, 8).min(n);
     // interval i with xs[i] <= x < xs[i+1]
@@ -259,7 +320,40 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
         Ok(i) => i.min(n - 2),
         Err(i) => i.saturating_sub(1).min(n - 2),
     };
-    let start = (i + 1).saturating_sub(p / 2).min(n - p);
+    ((i + 1).saturating_sub(p / 2).min(n - p), p)
+}
+
+/// The derivatives `l_j′(x) = Σ_{k≠j} Π_{m≠j,k} (x − x_m) / Π_{m≠j} (x_j − x_m)` of the
+/// weights of [`lagrange_weights`] (same stencil): the first node index and the slopes.
+pub fn lagrange_weight_slopes(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
+    let (start, p) = lagrange_stencil(xs, order, x);
+    let mut w = [0.0; 8];
+    for j in 0..p {
+        let xj = xs[start + j];
+        let mut den = 1.0;
+        let mut sum = 0.0;
+        for k in 0..p {
+            if k == j {
+                continue;
+            }
+            den *= xj - xs[start + k];
+            let mut prod = 1.0;
+            for m in 0..p {
+                if m != j && m != k {
+                    prod *= x - xs[start + m];
+                }
+            }
+            sum += prod;
+        }
+        w[j] = sum / den;
+    }
+    (start, w)
+}
+
+/// Lagrange interpolation weights through `order` consecutive nodes around `x`.
+/// Returns the first node index and the weights (up to 8 nodes).
+pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
+    let (start, p) = lagrange_stencil(xs, order, x);
     // l_j = Π_{m≠j} (x − x_m) / Π_{m≠j} (x_j − x_m): one division per weight
     let mut w = [0.0; 8];
     for j in 0..p {
@@ -299,6 +393,78 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The weight slopes differentiate every polynomial of degree < order exactly: through
+    /// `order` nodes, Σ l_j′(x) x_jᵈ = d xᵈ⁻¹ (same points as above).
+    #[test]
+    fn lagrange_weight_slopes_differentiate_polynomials_of_their_degree() {
+        let xs = [0.0, 1.5, 2.0, 4.0, 7.0, 7.5, 11.0];
+        for order in 2..=6 {
+            for x in [0.0, 0.3, 2.0, 3.1, 6.9, 11.0] {
+                let (start, w) = lagrange_weight_slopes(&xs, order, x);
+                assert_eq!(start, lagrange_weights(&xs, order, x).0, "the same stencil");
+                for degree in 0..order as i32 {
+                    let value: f64 = (0..order).map(|j| w[j] * xs[start + j].powi(degree)).sum();
+                    let exact = if degree == 0 {
+                        0.0
+                    } else {
+                        degree as f64 * x.powi(degree - 1)
+                    };
+                    assert!(
+                        (value - exact).abs() <= 1e-10 * (1.0 + exact.abs()),
+                        "order {order}, x {x}, degree {degree}: {value} vs {exact}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Sine shape slopes equal the closed form a (kπ/L) cos(kπ(x − x₀)/L), through eq. 8.
+    #[test]
+    fn sine_shape_slopes_equal_the_closed_form() {
+        let b = ModalBridge {
+            x_start_m: 5.0,
+            x_end_m: 35.0,
+            frequencies_hz: vec![1.0, 2.0, 3.0],
+            damping: vec![0.01; 3],
+            labels: vec!["a".into(), "b".into(), "c".into()],
+            e_m: 1.5,
+            h4_m: 0.7,
+            shapes: Shapes::Sine {
+                span_m: 30.0,
+                half_waves: vec![1, 5, 2],
+                amplitudes: vec![[0.1, 0.2, 0.3], [0.0, 0.4, 0.0], [0.5, 0.0, -0.2]],
+            },
+            steady_modal_force: Vec::new(),
+            buffeting: None,
+        };
+        let mut out = vec![[0.0; 3]; 3];
+        for x in [5.0, 11.3, 20.0, 34.9] {
+            assert!(b.rail_shape_slopes(x, &mut out));
+            for (i, (k, a)) in [
+                (1.0, [0.1, 0.2, 0.3]),
+                (5.0, [0.0, 0.4, 0.0]),
+                (2.0, [0.5, 0.0, -0.2]),
+            ]
+            .iter()
+            .enumerate()
+            {
+                let d = k * std::f64::consts::PI / 30.0
+                    * (k * std::f64::consts::PI * (x - 5.0) / 30.0).cos();
+                let deck = [a[0] * d, a[1] * d, a[2] * d];
+                let rail = [deck[0] + 0.7 * deck[2], deck[2], deck[1] + 1.5 * deck[2]];
+                for c in 0..3 {
+                    assert!(
+                        (out[i][c] - rail[c]).abs() <= 1e-14,
+                        "x {x} mode {i}: {:?} vs {rail:?}",
+                        out[i]
+                    );
+                }
+            }
+        }
+        assert!(!b.rail_shape_slopes(40.0, &mut out));
+        assert_eq!(out, vec![[0.0; 3]; 3]);
     }
 
     #[test]

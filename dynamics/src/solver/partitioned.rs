@@ -322,6 +322,83 @@ impl BridgeSide {
         }
     }
 
+    /// The rail motion under every wheelset linearised at the current point: the partial
+    /// derivatives a bridge FMU gives as its directional derivatives. With the seeds `dx`,
+    /// `dv`, `df` of each wheelset's position, speed and force (`seeds[w]`) and `duw` of the
+    /// turbulence at the deck points:
+    ///
+    /// ```text
+    /// d(u, u̇, ü)_w = [Ψ′(x_w)(q, q̇, q̈) + (r′, v r″, v² r‴)] dx_w + (0, r′, 2 v r″) dv_w
+    /// ```
+    ///
+    /// (`rail_motion_slope`; Ψ′ = [`ModalBridge::rail_shape_slopes`]). At a communication point
+    /// the state is fixed and the forces act only through the next step. While `initializing`
+    /// the acceleration follows the loads ([`Self::initialize`]), so also
+    ///
+    /// ```text
+    /// dq̈ = Σ_w [Ψ(x_w)ᵀ df_w + Ψ′(x_w)ᵀ f_w dx_w] + B duw ,   d ü_w += Ψ(x_w) dq̈ ,
+    /// ```
+    ///
+    /// `B` the buffeting forces' linear map. Calls `f(w, d(u, u̇, ü)_w)` and returns `dq̈`
+    /// (zeros at a communication point).
+    pub fn linearised_rails(
+        &self,
+        inputs: &[WheelInput],
+        seeds: &[WheelInput],
+        deck_wind_seed: Option<&[[f64; 2]]>,
+        initializing: bool,
+        mut f: impl FnMut(usize, &[Vector3<f64>; 3]),
+    ) -> Vec<f64> {
+        let bridge = &self.bridge;
+        let nb = bridge.n_modes();
+        let (mut psi, mut dpsi) = (vec![[0.0; 3]; nb], vec![[0.0; 3]; nb]);
+        let mut dqdd = vec![0.0; nb];
+        if initializing {
+            for (wi, si) in inputs.iter().zip(seeds) {
+                if bridge.rail_shapes(wi.x, &mut psi) {
+                    bridge.rail_shape_slopes(wi.x, &mut dpsi);
+                    for n in 0..nb {
+                        for k in 0..3 {
+                            dqdd[n] += psi[n][k] * si.f[k] + dpsi[n][k] * wi.f[k] * si.x;
+                        }
+                    }
+                }
+            }
+            if let (Some(b), Some(duw)) = (&self.buffeting, deck_wind_seed) {
+                b.add_modal_force_from(duw, &mut dqdd);
+            }
+        }
+        let s = &self.state;
+        for (w, (wi, si)) in inputs.iter().zip(seeds).enumerate() {
+            let (mut by_x, by_v) = crate::track::rail_motion_slope(
+                &self.track.at(wi.x),
+                self.track.third_derivative(wi.x),
+                wi.vx,
+            );
+            let on = bridge.rail_shapes(wi.x, &mut psi);
+            if on {
+                bridge.rail_shape_slopes(wi.x, &mut dpsi);
+                for n in 0..nb {
+                    for k in 0..3 {
+                        by_x[0][k] += dpsi[n][k] * s.q[n];
+                        by_x[1][k] += dpsi[n][k] * s.qd[n];
+                        by_x[2][k] += dpsi[n][k] * s.qdd[n];
+                    }
+                }
+            }
+            let mut d = [0, 1, 2].map(|i| by_x[i] * si.x + by_v[i] * si.vx);
+            if on && initializing {
+                for n in 0..nb {
+                    for k in 0..3 {
+                        d[2][k] += psi[n][k] * dqdd[n];
+                    }
+                }
+            }
+            f(w, &d);
+        }
+        dqdd
+    }
+
     /// Deck response at `x` (the deck shapes there kept for the next call: probes stay put).
     pub fn probe(&mut self, x: f64) -> ProbeValues {
         let mut c = self.cache.lock().expect("shape cache");

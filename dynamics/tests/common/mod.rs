@@ -110,4 +110,12 @@ impl tbi_dynamics::track::RailProfile for Waves {
             vertical: c(3e-3, 11.0, 2.0),
         }
     }
+
+    fn third_derivative(&self, x: f64) -> nalgebra::Vector3<f64> {
+        let c = |a: f64, l: f64, ph: f64| {
+            let k = 2.0 * std::f64::consts::PI / l;
+            -a * k * k * k * (k * x + ph).cos()
+        };
+        nalgebra::Vector3::new(c(2e-3, 17.0, 0.3), c(1e-3, 23.0, 1.1), c(3e-3, 11.0, 2.0))
+    }
 }

@@ -86,6 +86,10 @@ pub struct HarnessConfig {
     /// `loggingOn` for the instances (default false, so the check that every error is
     /// logged also proves that errors are delivered with debug logging off).
     pub logging_on: bool,
+    /// The FMU's `providesDirectionalDerivative` (default false): when true,
+    /// `fmi2GetDirectionalDerivative` of the output by the input must succeed at a
+    /// communication point, else it must fail there.
+    pub provides_directional_derivative: bool,
 }
 
 impl HarnessConfig {
@@ -109,6 +113,7 @@ impl HarnessConfig {
             start_time: 0.0,
             step_size: 1e-3,
             logging_on: false,
+            provides_directional_derivative: false,
         }
     }
 }

@@ -132,17 +132,36 @@ pub(super) fn illegal_state_checks(ck: &mut Checker, ctx: &Ctx) {
             unsafe { (s.lib.get_real_status)(s.c, fmi2LastSuccessfulTime, &mut v) }
         },
     );
-    illegal(
-        ck,
-        ctx,
-        "fmi2GetDirectionalDerivative (not provided)",
-        to_step_mode,
-        |s| {
-            let (vr, dv) = (out, 1.0);
-            let mut r = 0.0;
-            unsafe { (s.lib.get_directional_derivative)(s.c, &vr, 1, &inp, 1, &dv, &mut r) }
-        },
-    );
+    let directional = move |s: &mut Slave| {
+        let (vr, dv) = (out, 1.0);
+        let mut r = 0.0;
+        unsafe { (s.lib.get_directional_derivative)(s.c, &vr, 1, &inp, 1, &dv, &mut r) }
+    };
+    if ctx.cfg.provides_directional_derivative {
+        illegal(
+            ck,
+            ctx,
+            "fmi2GetDirectionalDerivative in Instantiated",
+            nothing,
+            directional,
+        );
+        ck.check(
+            "fmi2GetDirectionalDerivative at a communication point → fmi2OK".to_owned(),
+            || {
+                let mut s = ctx.slave()?;
+                to_step_mode(&mut s)?;
+                expect_ok(directional(&mut s), "fmi2GetDirectionalDerivative")
+            },
+        );
+    } else {
+        illegal(
+            ck,
+            ctx,
+            "fmi2GetDirectionalDerivative (not provided)",
+            to_step_mode,
+            directional,
+        );
+    }
     illegal(
         ck,
         ctx,
