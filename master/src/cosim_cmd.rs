@@ -280,6 +280,7 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         "steps": stats.steps,
         "iterations_mean": stats.mean_iterations(),
         "iterations_max": stats.max_iterations,
+        "jacobian_probes": stats.jacobian_probes,
         "max_residual": stats.max_residual,
         "accepted_unconverged": stats.accepted_unconverged,
         "lagged_connections": lagged,

@@ -359,6 +359,7 @@ fn coupling_statistics_count_steps_and_iterations() {
             converged,
             discarded_by: None,
             diagnosis: None,
+            jacobian_probes: 0,
         },
     };
     let mut stats = CouplingStatistics::new();

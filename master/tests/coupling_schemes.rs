@@ -287,51 +287,117 @@ fn coupling_rollback_is_used() {
     assert!(err.message.contains("do_step at t = 0"), "{err}");
 }
 
+/// [`Case::track`] with four wheels whose train is two vehicles (wheels 1–2 under one body,
+/// 3–4 under another): its step map is block-diagonal by vehicle.
+fn two_vehicles() -> Case {
+    use coupling_support::{zeros, Load, Structure};
+    let mut case = Case::track(4, 200.0, 2e9);
+    let (nw, n) = (4, 6);
+    let (ks, cs) = (4.0e6, 6.0e4);
+    let mut train = Structure {
+        m: zeros(n),
+        c: zeros(n),
+        k: zeros(n),
+        loads: Vec::new(),
+    };
+    for j in 0..nw {
+        let body = nw + j / 2;
+        train.m[j][j] = 1.5e3 + 300.0 * j as f64;
+        for (mat, v) in [(&mut train.k, ks), (&mut train.c, cs)] {
+            mat[j][j] += v;
+            mat[body][body] += v;
+            mat[j][body] -= v;
+            mat[body][j] -= v;
+        }
+    }
+    for (body, omega) in [(4, 25.0), (5, 31.0)] {
+        train.m[body][body] = 4.0e4;
+        train.loads.push(Load {
+            dof: body,
+            amplitude: 2.0e5,
+            omega,
+        });
+    }
+    case.train = train;
+    case
+}
+
 /// The Newton update's step Jacobian (participant by participant through rollback, chain
 /// rule) equals a dense finite-difference Jacobian of the whole sweep (every unknown moved,
 /// all participants rolled back) and the closed form `H' = −(Kc⁻¹ + G_T)⁻¹ G_B` of the test
-/// system, to 1e-6 of its largest entry.
+/// system, to 1e-6 of its largest entry: the first Jacobian (every input moved alone), a
+/// reused one (one check probe per participant), and a coloured one (the train's two
+/// vehicles' inputs moved together, two probes for four inputs).
 #[test]
 fn coupling_step_jacobian_equals_dense_finite_differences() {
-    use tbi::coupling::jacobian::{step_jacobian, sweep};
+    use tbi::coupling::jacobian::{step_jacobian, sweep, StepJacobian};
     use tbi::coupling::{advance, save_all};
-    let case = Case::track(3, 200.0, 2e9);
-    let (mut sys, _) = case.system();
-    let mut s = implicit(Box::new(tbi::coupling::acceleration::Aitken::new(0.5)), 50);
-    s.initialize(&mut sys).unwrap();
-    let mut t = 0.0;
-    for _ in 0..20 {
-        advance(&mut s, &mut sys, t, H, OnNonConvergence::Stop).unwrap();
-        t += H;
-    }
-    let n = s.interface_size();
-    assert_eq!(n, 3, "one contact force per wheel");
-    save_all(&mut sys).unwrap();
-    let x = sweep(&mut sys, t, H, &vec![0.0; n]).unwrap();
-    let base = sweep(&mut sys, t, H, &x).unwrap();
-    let j = step_jacobian(&mut sys, t, H, &x).unwrap();
-    let scale = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let exact = case.interface_jacobian(H);
-    let largest = j.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    assert!(largest > 1e-3, "a coupled interface: |J| = {largest}");
-    for u in 0..n {
-        let eps = 1e-6 * x[u].abs().max(scale);
-        let mut xp = x.clone();
-        xp[u] += eps;
-        let moved = sweep(&mut sys, t, H, &xp).unwrap();
-        for i in 0..n {
-            let fd = (moved[i] - base[i]) / eps;
-            assert!(
-                (j[(i, u)] - fd).abs() <= 1e-6 * largest,
-                "J[{i},{u}] = {} vs dense differences {fd}",
-                j[(i, u)]
-            );
-            assert!(
-                (j[(i, u)] - exact[i][u]).abs() <= 1e-6 * largest,
-                "J[{i},{u}] = {} vs closed form {}",
-                j[(i, u)],
-                exact[i][u]
-            );
+    for (label, case) in [
+        ("one vehicle", Case::track(3, 200.0, 2e9)),
+        ("two vehicles", two_vehicles()),
+    ] {
+        let (mut sys, _) = case.system();
+        let mut s = implicit(Box::new(tbi::coupling::acceleration::Aitken::new(0.5)), 50);
+        s.initialize(&mut sys).unwrap();
+        let mut t = 0.0;
+        for _ in 0..20 {
+            advance(&mut s, &mut sys, t, H, OnNonConvergence::Stop).unwrap();
+            t += H;
         }
+        let n = s.interface_size();
+        assert_eq!(n, case.wheels.len(), "one contact force per wheel");
+        save_all(&mut sys).unwrap();
+        let x = sweep(&mut sys, t, H, &vec![0.0; n]).unwrap();
+        let base = sweep(&mut sys, t, H, &x).unwrap();
+        let scale = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let exact = case.interface_jacobian(H);
+        let mut dense = vec![vec![0.0; n]; n];
+        for u in 0..n {
+            let eps = 1e-6 * x[u].abs().max(scale);
+            let mut xp = x.clone();
+            xp[u] += eps;
+            let moved = sweep(&mut sys, t, H, &xp).unwrap();
+            for i in 0..n {
+                dense[i][u] = (moved[i] - base[i]) / eps;
+            }
+        }
+        // (Jacobian, its probes): the first, then again with what was learnt
+        let mut computed = Vec::new();
+        for (known, names) in [
+            (StepJacobian::new(), ["first", "reused"]),
+            (StepJacobian::new().reuse(false), ["first", "coloured"]),
+        ] {
+            let mut known = known;
+            for what in names {
+                let before = known.probes();
+                let j = step_jacobian(&mut known, &mut sys, t, H, &x).unwrap();
+                computed.push((what, j, known.probes() - before));
+            }
+        }
+        for (what, j, probes) in &computed {
+            let largest = j.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            assert!(largest > 1e-3, "a coupled interface: |J| = {largest}");
+            for u in 0..n {
+                for i in 0..n {
+                    assert!(
+                        (j[(i, u)] - dense[i][u]).abs() <= 1e-6 * largest,
+                        "{label}, {what}: J[{i},{u}] = {} vs dense differences {}",
+                        j[(i, u)],
+                        dense[i][u]
+                    );
+                    assert!(
+                        (j[(i, u)] - exact[i][u]).abs() <= 1e-6 * largest,
+                        "{label}, {what}: J[{i},{u}] = {} vs closed form {}",
+                        j[(i, u)],
+                        exact[i][u]
+                    );
+                }
+            }
+            println!("{label}, {what}: {probes} participant steps");
+        }
+        // bridge and train each: every input alone, then one check, or the colours
+        let probes: Vec<usize> = computed.iter().map(|c| c.2).collect();
+        let colours = if label == "two vehicles" { 2 } else { n };
+        assert_eq!(probes, vec![2 * n, 2, 2 * n, n + colours], "{label}");
     }
 }

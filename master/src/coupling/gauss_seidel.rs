@@ -74,6 +74,7 @@ impl CouplingScheme for GaussSeidel {
             converged: true,
             discarded_by: None,
             diagnosis: None,
+            jacobian_probes: 0,
         })
     }
 }

@@ -77,6 +77,7 @@
 use super::acceleration::Acceleration;
 use super::convergence::{number_by_key, Groups, WeightedRms};
 use super::exchange::{same_time, Exchange};
+use super::jacobian::StepJacobian;
 use super::scheme::{do_step, restore_all, save_all, CouplingScheme, StepReport};
 use super::system::{CouplingError, StepStatus, System};
 
@@ -99,6 +100,8 @@ pub struct Implicit {
     max_iterations: usize,
     predictor: Predictor,
     exchange: Option<Exchange>,
+    /// The structure of the step Jacobians learnt so far (for accelerations that use them).
+    jacobian: StepJacobian,
     /// Accepted end-of-step interface values `(time, x̃)`, oldest first, at most two.
     history: Vec<(f64, Vec<f64>)>,
     /// Interface values read by `initialize`, used as the start value of the first step.
@@ -128,6 +131,7 @@ impl Implicit {
             max_iterations: max_iterations.max(1),
             predictor: Predictor::default(),
             exchange: None,
+            jacobian: StepJacobian::new(),
             history: Vec::new(),
             initial: None,
             block_of: Vec::new(),
@@ -143,6 +147,11 @@ impl Implicit {
     pub fn with_predictor(mut self, predictor: Predictor) -> Self {
         self.predictor = predictor;
         self
+    }
+
+    /// Participant steps spent on step Jacobians so far ([`StepJacobian::probes`]).
+    pub fn jacobian_probes(&self) -> usize {
+        self.jacobian.probes()
     }
 
     /// Number of interface unknowns `n` (distinct feedback sources); 0 before the first use.
@@ -168,6 +177,7 @@ impl Implicit {
         self.block_max = vec![0.0; n_blocks];
         self.groups = ex.groups(ex.feedback_slots.iter().copied());
         self.exchange = Some(ex);
+        self.jacobian = StepJacobian::new();
         self.history.clear();
         self.initial = None;
         Ok(())
@@ -242,6 +252,7 @@ impl CouplingScheme for Implicit {
             converged: false,
             discarded_by: None,
             diagnosis: None,
+            jacobian_probes: 0,
         };
         let mut breakdown = false;
         for k in 0..self.max_iterations {
@@ -272,7 +283,9 @@ impl CouplingScheme for Implicit {
             }
             if k == 0 && self.acceleration.needs_jacobian() {
                 // leaves the participants at probed states: the next sweep restores them
-                let j = ex.step_jacobian(sys, t, h, &self.x)?;
+                let before = self.jacobian.probes();
+                let j = self.jacobian.compute(ex, sys, t, h, &self.x)?;
+                report.jacobian_probes = self.jacobian.probes() - before;
                 self.acceleration.set_jacobian(j);
             }
             if k == 0 {

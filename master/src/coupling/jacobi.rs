@@ -70,6 +70,7 @@ impl CouplingScheme for Jacobi {
             converged: true,
             discarded_by: None,
             diagnosis: None,
+            jacobian_probes: 0,
         })
     }
 }

@@ -22,6 +22,9 @@ pub struct StepReport {
     /// When the step did not converge: where the last sweep changed most (the connection's
     /// source, its value and change) and whether the acceleration broke down.
     pub diagnosis: Option<String>,
+    /// Participant steps spent on the interface Jacobian in this step (finite differences
+    /// through rollback; not counted in `iterations`).
+    pub jacobian_probes: usize,
 }
 
 /// One co-simulation master algorithm (MasterSim: a master algorithm; preCICE: a coupling

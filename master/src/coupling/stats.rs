@@ -25,6 +25,8 @@ pub struct CouplingStatistics {
     pub rejected_iterations: usize,
     /// Smallest step kept (s); `f64::INFINITY` before the first.
     pub min_step: f64,
+    /// Participant steps spent on interface Jacobians (kept steps).
+    pub jacobian_probes: usize,
 }
 
 impl Default for CouplingStatistics {
@@ -38,6 +40,7 @@ impl Default for CouplingStatistics {
             rejected: 0,
             rejected_iterations: 0,
             min_step: f64::INFINITY,
+            jacobian_probes: 0,
         }
     }
 }
@@ -67,6 +70,7 @@ impl CouplingStatistics {
         self.max_iterations = self.max_iterations.max(report.iterations);
         self.max_residual = self.max_residual.max(report.residual);
         self.min_step = self.min_step.min(h);
+        self.jacobian_probes += report.jacobian_probes;
         if !report.converged {
             self.accepted_unconverged += 1;
         }
