@@ -196,6 +196,7 @@ pub fn run_cosim<W: std::io::Write>(
         accepted_unconverged: stats.accepted_unconverged,
         rejected: stats.rejected,
         max_residual: stats.max_residual,
+        jacobian_probes: stats.jacobian_probes,
         bridge_fmu: exported.bridge.display().to_string(),
         train_fmu: exported.train.display().to_string(),
     })

@@ -87,6 +87,10 @@ pub struct CouplingSummary {
     pub accepted_unconverged: usize,
     pub rejected: usize,
     pub max_residual: f64,
+    /// FMU steps spent on step Jacobians (finite differences through rollback; 0 unless the
+    /// acceleration is `newton`).
+    #[serde(default)]
+    pub jacobian_probes: usize,
     /// The FMUs that ran.
     pub bridge_fmu: String,
     pub train_fmu: String,
@@ -278,6 +282,13 @@ pub fn text(s: &Summary, out: &Path) -> String {
             "  coupling: {} ({}), {:.2} iterations per step (max {})",
             c.scheme, c.acceleration, c.iterations_mean, c.iterations_max
         );
+        if c.jacobian_probes > 0 {
+            let _ = writeln!(
+                t,
+                "            {:.1} FMU steps per step for the step Jacobians",
+                c.jacobian_probes as f64 / c.steps.max(1) as f64
+            );
+        }
     }
     let _ = write!(
         t,

@@ -126,6 +126,7 @@ fn without_locations(summary: &mut Value) {
             "iterations_mean",
             "iterations_max",
             "max_residual",
+            "jacobian_probes",
         ] {
             c.remove(key);
         }
