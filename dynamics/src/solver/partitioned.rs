@@ -583,6 +583,32 @@ pub struct TrainSide {
     bases: Vec<StepBase>,
     /// Scratch vector of a step per vehicle (the wind's share of the acceleration).
     work: Vec<DVector<f64>>,
+    /// The hunting motion of every wheelset at the end of the last step asked for (derived
+    /// data keyed by the time and the train: an iterating master repeats a step many times).
+    hunting: HuntingCache,
+}
+
+/// The hunting motion `(Y_h, Ẏ_h, Ÿ_h)` of each wheelset at one time, for one train.
+#[derive(Debug, Clone, Default)]
+struct HuntingCache {
+    /// Bits of the time and address of the train it was made for.
+    key: Option<(u64, usize)>,
+    values: Vec<[f64; 3]>,
+}
+
+impl HuntingCache {
+    /// The hunting motion of each of the `n` wheelsets of `train` at time `t`.
+    fn at(&mut self, train: &Arc<Train>, n: usize, t: f64) -> &[[f64; 3]] {
+        let key = (t.to_bits(), Arc::as_ptr(train) as usize);
+        if self.key != Some(key) || self.values.len() != n {
+            let v = train.speed_m_s;
+            self.values.clear();
+            self.values
+                .extend((0..n).map(|w| crate::track::hunting_motion(&train.hunting, w, v * t, v)));
+            self.key = Some(key);
+        }
+        &self.values
+    }
 }
 
 impl Clone for TrainSide {
@@ -599,6 +625,7 @@ impl Clone for TrainSide {
             forces: self.forces.clone(),
             bases: self.bases.clone(),
             work: self.work.clone(),
+            hunting: self.hunting.clone(),
         }
     }
 
@@ -667,6 +694,7 @@ impl TrainSide {
             wheelsets,
             train,
             t: 0.0,
+            hunting: HuntingCache::default(),
         }
     }
 
@@ -677,12 +705,10 @@ impl TrainSide {
 
     fn with_hunting(&self, w: usize, t: f64, rail: &[Vector3<f64>; 3]) -> [Vector3<f64>; 3] {
         let v = self.train.speed_m_s;
-        let h = crate::track::hunting_motion(&self.train.hunting, w, v * t, v);
-        let mut r = *rail;
-        r[0].x += h[0];
-        r[1].x += h[1];
-        r[2].x += h[2];
-        r
+        add_hunting(
+            rail,
+            &crate::track::hunting_motion(&self.train.hunting, w, v * t, v),
+        )
     }
 
     /// Static equilibrium at time `t` on the given rail motion (deck plus irregularity).
@@ -705,8 +731,9 @@ impl TrainSide {
     pub fn step(&mut self, h: f64, rails: &[[Vector3<f64>; 3]]) {
         let t1 = self.t + h;
         let nm = Newmark::new(h);
-        for w in 0..rails.len() {
-            self.rails[w] = self.with_hunting(w, t1, &rails[w]);
+        let hunting = self.hunting.at(&self.train, rails.len(), t1);
+        for ((out, rail), h) in self.rails.iter_mut().zip(rails).zip(hunting) {
+            *out = add_hunting(rail, h);
         }
         let mut first = 0;
         for (i, tv) in self.train.vehicles.iter().enumerate() {
@@ -779,6 +806,15 @@ impl TrainSide {
         }
         f
     }
+}
+
+/// `rail` with the lateral hunting motion `h = (Y_h, Ẏ_h, Ÿ_h)` added.
+fn add_hunting(rail: &[Vector3<f64>; 3], h: &[f64; 3]) -> [Vector3<f64>; 3] {
+    let mut r = *rail;
+    r[0].x += h[0];
+    r[1].x += h[1];
+    r[2].x += h[2];
+    r
 }
 
 /// Rail shapes and track irregularity at the last two positions of each wheelset slot (the
