@@ -9,7 +9,7 @@ use crate::newmark::Newmark;
 use crate::track::{rail_motion, RailProfile};
 use crate::train::Train;
 use crate::vehicle::LinearVehicle;
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DVector, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 pub use monolithic::Monolithic;
@@ -125,4 +125,61 @@ pub fn rail_prescribed(
     r[1].x += h[1];
     r[2].x += h[2];
     r
+}
+
+/// What the force of one wheelset on the rail (eq. 6) needs, in one place: its vehicle, its
+/// own blocks and the non-zero entries of `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each).
+#[derive(Debug, Clone)]
+pub(crate) struct WheelForce {
+    pub(crate) vehicle: usize,
+    p0: Vector3<f64>,
+    m_w: Matrix3<f64>,
+    k_ww: Matrix3<f64>,
+    c_ww: Matrix3<f64>,
+    entries: Vec<WheelEntry>,
+}
+
+impl WheelForce {
+    pub(crate) fn of(vehicle: usize, c: &crate::vehicle::WheelsetCoupling) -> Self {
+        let mut entries = Vec::new();
+        for row in 0..3 {
+            for dof in 0..c.k_vw.nrows() {
+                let (k, cv) = (c.k_vw[(dof, row)], c.c_vw[(dof, row)]);
+                if k != 0.0 || cv != 0.0 {
+                    entries.push(WheelEntry { row, dof, k, c: cv });
+                }
+            }
+        }
+        WheelForce {
+            vehicle,
+            p0: c.p0,
+            m_w: c.m_w,
+            k_ww: c.k_ww,
+            c_ww: c.c_ww,
+            entries,
+        }
+    }
+
+    /// The force on the rail of the wheelset with rail motion `(u, u̇, ü)` under vehicle state
+    /// `s`: eq. (6) as [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the
+    /// non-zero entries of `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
+    pub(crate) fn force(&self, s: &VehicleState, rail: &[Vector3<f64>; 3]) -> Vector3<f64> {
+        let [u, ud, udd] = rail;
+        let mut f = self.p0 - self.m_w * udd - self.k_ww * u - self.c_ww * ud;
+        let (v, vd) = (s.v.as_slice(), s.vd.as_slice());
+        for e in &self.entries {
+            f[e.row] -= e.k * v[e.dof] + e.c * vd[e.dof];
+        }
+        f
+    }
+}
+
+/// Row `row` (force component), column `dof` (vehicle DOF) of a wheelset's `K_wv` and `C_wv`,
+/// where either is non-zero.
+#[derive(Debug, Clone, Copy)]
+struct WheelEntry {
+    row: usize,
+    dof: usize,
+    k: f64,
+    c: f64,
 }

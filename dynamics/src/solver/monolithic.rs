@@ -35,7 +35,7 @@
 //! ([`crate::sparse`]). The tests check that this gives the same solution as a
 //! dense solve of the explicitly assembled matrices of eq. (14).
 
-use super::{rail_prescribed, VehicleState};
+use super::{rail_prescribed, VehicleState, WheelForce};
 use crate::bridge::ModalBridge;
 use crate::newmark::Newmark;
 use crate::sparse::{Csr, SparseCholesky};
@@ -90,6 +90,8 @@ pub struct Monolithic {
     /// The deck's buffeting forces, when the bridge has a turbulent wind.
     buffeting: Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
     first_ws: Vec<usize>,
+    /// Per wheelset, what its force on the rail needs (for the outputs).
+    wheel_forces: Vec<WheelForce>,
     on: Vec<bool>,
     work: Work,
 }
@@ -121,6 +123,13 @@ impl Monolithic {
                     .expect("the buffeting spec is checked when the model is built"),
             )
         });
+        let wheel_forces = wheelsets
+            .iter()
+            .map(|ws| {
+                let c = &train.vehicles[ws.vehicle].model.wheelsets[ws.local];
+                WheelForce::of(ws.vehicle, c)
+            })
+            .collect();
         let mut s = Monolithic {
             buffeting,
             omega: bridge.omegas(),
@@ -142,6 +151,7 @@ impl Monolithic {
             presc: vec![[Vector3::zeros(); 3]; nw],
             cache,
             first_ws,
+            wheel_forces,
             on: vec![false; nw],
             work: Work::default(),
         };
@@ -230,7 +240,6 @@ impl Monolithic {
     /// Rail motion and wheel forces from the current state.
     fn finish_outputs(&mut self) {
         for w in 0..self.wheelsets.len() {
-            let ws = self.wheelsets[w];
             let p = self.presc[w];
             let [u, ud, udd] = if self.on[w] {
                 let [a, b, c] = psi_mul3(
@@ -244,10 +253,8 @@ impl Monolithic {
                 p
             };
             self.rail[w] = [u, ud, udd];
-            let vs = &self.vehicles[ws.vehicle];
-            self.forces[w] = self.train.vehicles[ws.vehicle]
-                .model
-                .wheel_force(ws.local, &vs.v, &vs.vd, &u, &ud, &udd);
+            let c = &self.wheel_forces[w];
+            self.forces[w] = c.force(&self.vehicles[c.vehicle], &self.rail[w]);
         }
     }
 

@@ -13,14 +13,14 @@
 //! eq. (14): the co-simulation and the monolithic solution coincide to the iteration
 //! tolerance.
 
-use super::VehicleState;
+use super::{VehicleState, WheelForce};
 use crate::bridge::ModalBridge;
 use crate::newmark::Newmark;
 use crate::sparse::{Csr, SparseCholesky};
 use crate::track::{rail_motion, RailProfile};
 use crate::train::{Train, WheelsetRef};
 use crate::vehicle::LinearVehicle;
-use nalgebra::{DVector, Matrix3, Vector3};
+use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
 use tbi_track::RailIrregularity;
@@ -502,50 +502,6 @@ struct VehicleSparse {
     cvw: Vec<Csr>,
 }
 
-/// What the force of one wheelset on the rail (eq. 6) needs, in one place: its vehicle, its
-/// own blocks and the non-zero entries of `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each).
-#[derive(Debug, Clone)]
-struct WheelForce {
-    vehicle: usize,
-    p0: Vector3<f64>,
-    m_w: Matrix3<f64>,
-    k_ww: Matrix3<f64>,
-    c_ww: Matrix3<f64>,
-    entries: Vec<WheelEntry>,
-}
-
-impl WheelForce {
-    fn of(vehicle: usize, c: &crate::vehicle::WheelsetCoupling) -> Self {
-        let mut entries = Vec::new();
-        for row in 0..3 {
-            for dof in 0..c.k_vw.nrows() {
-                let (k, cv) = (c.k_vw[(dof, row)], c.c_vw[(dof, row)]);
-                if k != 0.0 || cv != 0.0 {
-                    entries.push(WheelEntry { row, dof, k, c: cv });
-                }
-            }
-        }
-        WheelForce {
-            vehicle,
-            p0: c.p0,
-            m_w: c.m_w,
-            k_ww: c.k_ww,
-            c_ww: c.c_ww,
-            entries,
-        }
-    }
-}
-
-/// Row `row` (force component), column `dof` (vehicle DOF) of a wheelset's `K_wv` and `C_wv`,
-/// where either is non-zero.
-#[derive(Debug, Clone, Copy)]
-struct WheelEntry {
-    row: usize,
-    dof: usize,
-    k: f64,
-    c: f64,
-}
-
 impl VehicleSparse {
     fn of(model: &LinearVehicle) -> Self {
         VehicleSparse {
@@ -797,14 +753,7 @@ impl TrainSide {
     /// `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
     pub fn force(&self, w: usize) -> Vector3<f64> {
         let c = &self.forces[w];
-        let s = &self.states[c.vehicle];
-        let [u, ud, udd] = self.rails[w];
-        let mut f = c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud;
-        let (v, vd) = (s.v.as_slice(), s.vd.as_slice());
-        for e in &c.entries {
-            f[e.row] -= e.k * v[e.dof] + e.c * vd[e.dof];
-        }
-        f
+        c.force(&self.states[c.vehicle], &self.rails[w])
     }
 }
 
