@@ -104,6 +104,8 @@ pub struct Implicit {
     jacobian: StepJacobian,
     /// Accepted end-of-step interface values `(time, x̃)`, oldest first, at most two.
     history: Vec<(f64, Vec<f64>)>,
+    /// Vectors of history entries dropped, reused for new ones (no allocation per step).
+    spare: Vec<Vec<f64>>,
     /// Interface values read by `initialize`, used as the start value of the first step.
     initial: Option<Vec<f64>>,
     /// Scaling block of each unknown, and the largest |x̃| seen in each block during the run.
@@ -133,6 +135,7 @@ impl Implicit {
             exchange: None,
             jacobian: StepJacobian::new(),
             history: Vec::new(),
+            spare: Vec::new(),
             initial: None,
             block_of: Vec::new(),
             block_max: Vec::new(),
@@ -186,9 +189,14 @@ impl Implicit {
     /// Sets `self.x` to the predicted interface values at `t + h`.
     fn predict(&mut self, sys: &mut System, t: f64, h: f64) -> Result<(), CouplingError> {
         let ex = self.exchange.as_mut().expect("bound");
-        // Entries after t belong to steps that were rolled back.
-        self.history
-            .retain(|&(tk, _)| tk <= t || same_time(tk, t, h));
+        // Entries after t (the newest) belong to steps that were rolled back.
+        while let Some((tk, _)) = self.history.last() {
+            if *tk <= t || same_time(*tk, t, h) {
+                break;
+            }
+            let (_, v) = self.history.pop().expect("looked at above");
+            self.spare.push(v);
+        }
         if !self
             .history
             .last()
@@ -205,8 +213,9 @@ impl Implicit {
             };
             self.history.push((t, start));
         }
-        if self.history.len() > 2 {
-            self.history.drain(..self.history.len() - 2);
+        while self.history.len() > 2 {
+            let (_, v) = self.history.remove(0);
+            self.spare.push(v);
         }
         let (t1, x1) = self.history.last().expect("pushed above");
         self.x.clone_from(x1);
@@ -333,7 +342,9 @@ impl CouplingScheme for Implicit {
         if report.converged {
             record_magnitudes(&self.block_of, &mut self.block_max, &self.x_tilde);
         }
-        self.history.push((t + h, self.x_tilde.clone()));
+        let mut kept = self.spare.pop().unwrap_or_default();
+        kept.clone_from(&self.x_tilde);
+        self.history.push((t + h, kept));
         Ok(report)
     }
 }
