@@ -18,6 +18,19 @@ pub fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
     axpy_body(y, a, x)
 }
 
+/// `y ← y + Σⱼ aⱼ xⱼ`, the columns `xⱼ` of `y.len()` values stored one after the other in
+/// `columns`, added in order `j = 0, 1, …` (each `yᵢ` rounds exactly as in one [`axpy`] per
+/// column).
+#[inline]
+pub fn axpy_columns(y: &mut [f64], a: &[f64], columns: &[f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked just above).
+        return unsafe { axpy_columns_avx2(y, a, columns) };
+    }
+    axpy_columns_body(y, a, columns)
+}
+
 /// `acc[k][d] ← acc[k][d] + Σₙ psi[n][k] · modal[n][d]`, summed over `n` in order: the rail
 /// motion (component `k`, derivative `d`) from the rail shapes and `(q, q̇, q̈, 0)` of each
 /// mode.
@@ -39,6 +52,16 @@ fn axpy_body(y: &mut [f64], a: f64, x: &[f64]) {
 }
 
 #[inline(always)]
+fn axpy_columns_body(y: &mut [f64], a: &[f64], columns: &[f64]) {
+    if y.is_empty() {
+        return;
+    }
+    for (&aj, x) in a.iter().zip(columns.chunks_exact(y.len())) {
+        axpy_body(y, aj, x);
+    }
+}
+
+#[inline(always)]
 fn rail_accumulate_body(acc: &mut [[f64; 4]; 3], psi: &[[f64; 3]], modal: &[[f64; 4]]) {
     for (p, m) in psi.iter().zip(modal) {
         for (a, pk) in acc.iter_mut().zip(p) {
@@ -53,6 +76,12 @@ fn rail_accumulate_body(acc: &mut [[f64; 4]; 3], psi: &[[f64; 3]], modal: &[[f64
 #[target_feature(enable = "avx2")]
 fn axpy_avx2(y: &mut [f64], a: f64, x: &[f64]) {
     axpy_body(y, a, x)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64]) {
+    axpy_columns_body(y, a, columns)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -82,6 +111,20 @@ mod tests {
             assert!(
                 a.iter().zip(&b).all(|(a, b)| a.to_bits() == b.to_bits()),
                 "axpy, n = {n}"
+            );
+            // three columns at once against one axpy per column
+            let cols: Vec<f64> = (0..3).flat_map(|j| values(n, 2.0 + j as f64)).collect();
+            let coeffs = [0.377, -1.25, 3.0e-3];
+            let (mut c, mut d) = (values(n, 1.7), values(n, 1.7));
+            if n > 0 {
+                for (&aj, col) in coeffs.iter().zip(cols.chunks_exact(n)) {
+                    axpy(&mut c, aj, col);
+                }
+            }
+            axpy_columns(&mut d, &coeffs, &cols);
+            assert!(
+                c.iter().zip(&d).all(|(c, d)| c.to_bits() == d.to_bits()),
+                "axpy_columns, n = {n}"
             );
             let psi: Vec<[f64; 3]> = (0..n)
                 .map(|i| [x[i], 0.5 * x[i] - 1.0, (i as f64).sqrt()])

@@ -226,10 +226,9 @@ impl ModalBridge {
                 // flat: the node's 3 n values are contiguous (node-major)
                 let out = out.as_flattened_mut();
                 out.fill(0.0);
-                for (j, wj) in w.iter().enumerate().take((*order).min(x_m.len())) {
-                    let row = values[(start + j) * n..(start + j + 1) * n].as_flattened();
-                    crate::simd::axpy(out, *wj, row);
-                }
+                let k = (*order).min(x_m.len()).min(w.len());
+                let rows = values[start * n..(start + k) * n].as_flattened();
+                crate::simd::axpy_columns(out, &w[..k], rows);
             }
         }
         true
@@ -291,10 +290,9 @@ impl ModalBridge {
             Shapes::Nodal { x_m, values, order } => {
                 let (start, w) = lagrange_weight_slopes(x_m, *order, x);
                 let out = out.as_flattened_mut();
-                for (j, wj) in w.iter().enumerate().take((*order).min(x_m.len())) {
-                    let row = values[(start + j) * n..(start + j + 1) * n].as_flattened();
-                    crate::simd::axpy(out, *wj, row);
-                }
+                let k = (*order).min(x_m.len()).min(w.len());
+                let rows = values[start * n..(start + k) * n].as_flattened();
+                crate::simd::axpy_columns(out, &w[..k], rows);
             }
         }
         true

@@ -720,9 +720,7 @@ impl TrainSide {
                     .zip(&self.rails[first..first + nw])
                 {
                     let uv = [r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z];
-                    for (col, &c) in g.chunks_exact(n).zip(&uv) {
-                        crate::simd::axpy(a, c, col);
-                    }
+                    crate::simd::axpy_columns(a, &uv, g);
                 }
                 if self.train.wind.is_some() {
                     // the wind on the body beyond its static loads, F₁
