@@ -290,26 +290,10 @@ fn coupling_rollback_is_used() {
 /// [`Case::track`] with four wheels whose train is two vehicles (wheels 1–2 under one body,
 /// 3–4 under another): its step map is block-diagonal by vehicle.
 fn two_vehicles() -> Case {
-    use coupling_support::{zeros, Load, Structure};
+    use coupling_support::{Load, Structure};
     let mut case = Case::track(4, 200.0, 2e9);
-    let (nw, n) = (4, 6);
-    let (ks, cs) = (4.0e6, 6.0e4);
-    let mut train = Structure {
-        m: zeros(n),
-        c: zeros(n),
-        k: zeros(n),
-        loads: Vec::new(),
-    };
-    for j in 0..nw {
-        let body = nw + j / 2;
-        train.m[j][j] = 1.5e3 + 300.0 * j as f64;
-        for (mat, v) in [(&mut train.k, ks), (&mut train.c, cs)] {
-            mat[j][j] += v;
-            mat[body][body] += v;
-            mat[j][body] -= v;
-            mat[body][j] -= v;
-        }
-    }
+    // wheels 0, 1 under body 4, wheels 2, 3 under body 5
+    let mut train = Structure::wheels_under_bodies(4, 6, |j| 4 + j / 2);
     for (body, omega) in [(4, 25.0), (5, 31.0)] {
         train.m[body][body] = 4.0e4;
         train.loads.push(Load {

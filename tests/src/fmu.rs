@@ -2,7 +2,7 @@
 //! under test.
 
 use crate::{paths, run_ok, scratch};
-use model_description::ModelDescription;
+use model_description::{Causality, ModelDescription};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -72,6 +72,56 @@ pub fn vr_of(md: &ModelDescription, name: &str) -> u32 {
         .find(|v| v.name == name)
         .unwrap_or_else(|| panic!("the model description has no variable {name}"))
         .value_reference
+}
+
+/// Value references of the variables of causality `causality`, in the order declared.
+pub fn vrs_of(md: &ModelDescription, causality: Causality) -> Vec<u32> {
+    md.model_variables
+        .iter()
+        .filter(|v| v.causality == causality)
+        .map(|v| v.value_reference)
+        .collect()
+}
+
+/// Name of the variable with value reference `vr` (the first declared).
+pub fn name_of(md: &ModelDescription, vr: u32) -> &str {
+    &md.model_variables
+        .iter()
+        .find(|v| v.value_reference == vr)
+        .unwrap_or_else(|| panic!("the model description has no variable of vr {vr}"))
+        .name
+}
+
+/// Inputs of a bridge FMU at an operating point: every wheelset on the deck between `a` and
+/// `b` (m) with a position, speed and forces of its own, and every deck wind input
+/// (`deck[j].…`) at a value of its own.
+pub fn bridge_operating_point(md: &ModelDescription, (a, b): (f64, f64)) -> Vec<(u32, f64)> {
+    let n = md
+        .model_variables
+        .iter()
+        .filter(|v| v.name.ends_with("].F_z") && v.causality == Causality::Input)
+        .count();
+    let mut inputs = Vec::new();
+    for w in 1..=n {
+        let s = w as f64;
+        for (channel, value) in [
+            ("x", a + (b - a) * (s - 0.55) / n as f64),
+            ("vx", 40.0 + s),
+            ("F_y", -2.1e3 * s),
+            ("M_x", 5.5e2 - 30.0 * s),
+            ("F_z", 7.7e4 + 1.0e3 * s),
+        ] {
+            inputs.push((vr_of(md, &format!("ws[{w}].{channel}")), value));
+        }
+    }
+    let deck = md
+        .model_variables
+        .iter()
+        .filter(|v| v.name.starts_with("deck[") && v.causality == Causality::Input);
+    for (j, v) in deck.enumerate() {
+        inputs.push((v.value_reference, 1.5 - 0.2 * j as f64));
+    }
+    inputs
 }
 
 /// Extract `fmu` into `into` with the `zip` crate and read its model description.

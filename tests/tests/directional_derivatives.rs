@@ -32,22 +32,11 @@ impl Case {
     }
 
     fn vrs(&self, causality: Causality) -> Vec<u32> {
-        self.md()
-            .model_variables
-            .iter()
-            .filter(|v| v.causality == causality)
-            .map(|v| v.value_reference)
-            .collect()
+        tbi_tests::fmu::vrs_of(self.md(), causality)
     }
 
     fn name(&self, vr: u32) -> String {
-        self.md()
-            .model_variables
-            .iter()
-            .find(|v| v.value_reference == vr)
-            .unwrap()
-            .name
-            .clone()
+        tbi_tests::fmu::name_of(self.md(), vr).to_owned()
     }
 
     fn initializing(&self, inputs: &[(u32, f64)]) -> Instance {
@@ -219,38 +208,8 @@ impl Case {
 }
 
 /// The bridge FMU's inputs at an operating point: every wheelset on the deck `[a, b]`.
-fn bridge_case(fmu: Arc<Fmu>, (a, b): (f64, f64)) -> Case {
-    let md = fmu.model_description();
-    let n = md
-        .model_variables
-        .iter()
-        .filter(|v| v.name.ends_with("].F_z") && v.causality == Causality::Input)
-        .count();
-    let mut inputs = Vec::new();
-    for w in 1..=n {
-        let s = w as f64;
-        for (channel, value) in [
-            ("x", a + (b - a) * (s - 0.55) / n as f64),
-            ("vx", 40.0 + s),
-            ("F_y", -2.1e3 * s),
-            ("M_x", 5.5e2 - 30.0 * s),
-            ("F_z", 7.7e4 + 1.0e3 * s),
-        ] {
-            inputs.push((
-                tbi_tests::fmu::vr_of(md, &format!("ws[{w}].{channel}")),
-                value,
-            ));
-        }
-    }
-    let deck: Vec<u32> = md
-        .model_variables
-        .iter()
-        .filter(|v| v.name.starts_with("deck[") && v.causality == Causality::Input)
-        .map(|v| v.value_reference)
-        .collect();
-    for (j, vr) in deck.into_iter().enumerate() {
-        inputs.push((vr, 1.5 - 0.2 * j as f64));
-    }
+fn bridge_case(fmu: Arc<Fmu>, deck: (f64, f64)) -> Case {
+    let inputs = tbi_tests::fmu::bridge_operating_point(fmu.model_description(), deck);
     Case { fmu, inputs }
 }
 

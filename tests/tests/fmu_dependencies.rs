@@ -38,12 +38,7 @@ impl Case {
     }
 
     fn vrs(&self, causality: Causality) -> Vec<u32> {
-        self.md()
-            .model_variables
-            .iter()
-            .filter(|v| v.causality == causality)
-            .map(|v| v.value_reference)
-            .collect()
+        tbi_tests::fmu::vrs_of(self.md(), causality)
     }
 
     /// A fresh instance in initialisation mode at the operating point.
@@ -236,35 +231,11 @@ fn declared_dependencies_equal_finite_differences() {
 
     // bridge: every wheelset on the 30 m span, at positions, speeds and forces of its own
     let md = bridge.model_description();
-    let input = |name: &str| tbi_tests::fmu::vr_of(md, name);
-    let n = md
-        .model_variables
-        .iter()
-        .filter(|v| v.name.ends_with("].F_z") && v.causality == Causality::Input)
-        .count();
-    let mut inputs = Vec::new();
-    for w in 1..=n {
-        let s = w as f64;
-        for (channel, value) in [
-            ("x", 1.3 + 27.0 * (s - 0.5) / n as f64),
-            ("vx", 40.0 + s),
-            ("F_y", -2.1e3 * s),
-            ("M_x", 5.5e2 - 30.0 * s),
-            ("F_z", 7.7e4 + 1.0e3 * s),
-        ] {
-            inputs.push((input(&format!("ws[{w}].{channel}")), value));
-        }
-    }
-    let deck_points = md
-        .model_variables
-        .iter()
+    let inputs = tbi_tests::fmu::bridge_operating_point(md, (1.3, 28.3));
+    let deck_points = (md.model_variables.iter())
         .filter(|v| v.name.starts_with("deck[") && v.causality == Causality::Input)
-        .map(|v| v.value_reference)
-        .collect::<Vec<_>>();
-    assert_eq!(deck_points.len(), 2 * 12, "deck[j].u and .w inputs");
-    for (j, vr) in deck_points.into_iter().enumerate() {
-        inputs.push((vr, 1.5 - 0.2 * j as f64));
-    }
+        .count();
+    assert_eq!(deck_points, 2 * 12, "deck[j].u and .w inputs");
     Case {
         fmu: bridge,
         inputs,

@@ -223,12 +223,7 @@ impl ModalBridge {
             }
             Shapes::Nodal { x_m, values, order } => {
                 let (start, w) = lagrange_weights(x_m, *order, x);
-                // flat: the node's 3 n values are contiguous (node-major)
-                let out = out.as_flattened_mut();
-                out.fill(0.0);
-                let k = (*order).min(x_m.len()).min(w.len());
-                let rows = values[start * n..(start + k) * n].as_flattened();
-                crate::simd::axpy_columns(out, &w[..k], rows);
+                nodal_combination(values, start, &w[..(*order).min(x_m.len()).min(8)], out);
             }
         }
         true
@@ -289,10 +284,7 @@ impl ModalBridge {
             }
             Shapes::Nodal { x_m, values, order } => {
                 let (start, w) = lagrange_weight_slopes(x_m, *order, x);
-                let out = out.as_flattened_mut();
-                let k = (*order).min(x_m.len()).min(w.len());
-                let rows = values[start * n..(start + k) * n].as_flattened();
-                crate::simd::axpy_columns(out, &w[..k], rows);
+                nodal_combination(values, start, &w[..(*order).min(x_m.len()).min(8)], out);
             }
         }
         true
@@ -319,6 +311,16 @@ fn lagrange_stencil(xs: &[f64], order: usize, x: f64) -> (usize, usize) {
         Err(i) => i.saturating_sub(1).min(n - 2),
     };
     ((i + 1).saturating_sub(p / 2).min(n - p), p)
+}
+
+/// `out = Σⱼ wⱼ Φ(x_{start+j})`: the deck shapes (or their slopes) combined over the nodes of
+/// a Lagrange stencil with weights `w`, the `n` shapes of a node contiguous (node-major).
+fn nodal_combination(values: &[[f64; 3]], start: usize, w: &[f64], out: &mut [[f64; 3]]) {
+    let n = out.len();
+    let out = out.as_flattened_mut();
+    out.fill(0.0);
+    let rows = values[start * n..(start + w.len()) * n].as_flattened();
+    crate::simd::axpy_columns(out, w, rows);
 }
 
 /// The derivatives `l_j′(x) = Σ_{k≠j} Π_{m≠j,k} (x − x_m) / Π_{m≠j} (x_j − x_m)` of the

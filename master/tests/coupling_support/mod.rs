@@ -143,6 +143,30 @@ impl Structure {
         }
         a
     }
+
+    /// A train of `n` DOFs: wheels `0..nw` (masses 1.5 t + 0.3 t per index) each hung from the
+    /// body `body_of(j) ≥ nw` by a suspension of 4e6 N/m and 6e4 N s/m; the bodies' masses
+    /// and the loads are left to the caller.
+    pub fn wheels_under_bodies(nw: usize, n: usize, body_of: impl Fn(usize) -> usize) -> Self {
+        let (ks, cs) = (4.0e6, 6.0e4);
+        let mut train = Structure {
+            m: zeros(n),
+            c: zeros(n),
+            k: zeros(n),
+            loads: Vec::new(),
+        };
+        for j in 0..nw {
+            let body = body_of(j);
+            train.m[j][j] = 1.5e3 + 300.0 * j as f64;
+            for (mat, v) in [(&mut train.k, ks), (&mut train.c, cs)] {
+                mat[j][j] += v;
+                mat[body][body] += v;
+                mat[j][body] -= v;
+                mat[body][j] -= v;
+            }
+        }
+        train
+    }
 }
 
 /// Displacement, velocity, acceleration.
@@ -453,24 +477,8 @@ impl Case {
             amplitude: 5.0e4,
             omega: 40.0,
         });
-        // Train: wheels 0..nw, body nw, suspension k_s / c_s per wheel.
-        let (ks, cs) = (4.0e6, 6.0e4);
-        let n = nw + 1;
-        let mut train = Structure {
-            m: zeros(n),
-            c: zeros(n),
-            k: zeros(n),
-            loads: Vec::new(),
-        };
-        for j in 0..nw {
-            train.m[j][j] = 1.5e3 + 300.0 * j as f64;
-            for (mat, v) in [(&mut train.k, ks), (&mut train.c, cs)] {
-                mat[j][j] += v;
-                mat[nw][nw] += v;
-                mat[j][nw] -= v;
-                mat[nw][j] -= v;
-            }
-        }
+        // Train: wheels 0..nw under one body nw.
+        let mut train = Structure::wheels_under_bodies(nw, nw + 1, |_| nw);
         train.m[nw][nw] = 2.0e4 * nw as f64;
         train.loads.push(Load {
             dof: nw,
