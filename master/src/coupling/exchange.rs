@@ -16,12 +16,42 @@ pub(super) struct Route {
     pub(super) unknown: Option<usize>,
 }
 
+/// The outputs of one participant read as one run of consecutive value references `vrs`
+/// that holds every connected one (an FMU copies such a run at once instead of looking up each
+/// value reference), and the position in the run of each connected output.
+#[derive(Debug, Clone)]
+struct ReadRun {
+    vrs: Vec<u32>,
+    at: Vec<usize>,
+}
+
+impl ReadRun {
+    /// The run for the connected outputs `vrs` of participant `p`: when it is at most twice as
+    /// long as they are many and every value reference in it is a declared Real variable
+    /// ([`super::system::Participant::variable_name`]; fmi2GetReal may read any variable).
+    fn of(sys: &System, p: usize, vrs: &[u32]) -> Option<ReadRun> {
+        let (lo, hi) = (*vrs.iter().min()?, *vrs.iter().max()?);
+        let len = (hi - lo) as usize + 1;
+        let part = &sys.participants[p];
+        (vrs.len() >= 2
+            && len <= 2 * vrs.len()
+            && (lo..=hi).all(|vr| part.variable_name(vr).is_some()))
+        .then(|| ReadRun {
+            vrs: (lo..=hi).collect(),
+            at: vrs.iter().map(|&vr| (vr - lo) as usize).collect(),
+        })
+    }
+}
+
 /// The connection topology of a [`System`] compiled into per-participant batches.
 #[derive(Debug, Clone)]
 pub(crate) struct Exchange {
     /// Output value references read from each participant, and the slot each one fills.
     pub(super) out_vrs: Vec<Vec<u32>>,
     pub(super) out_slots: Vec<Vec<usize>>,
+    /// Per participant, the run its outputs are read as (None: read one by one).
+    out_runs: Vec<Option<ReadRun>>,
+    run_values: Vec<f64>,
     /// Input value references written to each participant, and where each takes its value.
     pub(super) in_vrs: Vec<Vec<u32>>,
     pub(super) in_routes: Vec<Vec<Route>>,
@@ -47,6 +77,8 @@ impl Exchange {
         let mut ex = Exchange {
             out_vrs: vec![Vec::new(); np],
             out_slots: vec![Vec::new(); np],
+            out_runs: Vec::new(),
+            run_values: Vec::new(),
             in_vrs: vec![Vec::new(); np],
             in_routes: vec![Vec::new(); np],
             slot_source: Vec::new(),
@@ -104,6 +136,9 @@ impl Exchange {
             ex.in_routes[c.to].push(Route { slot, unknown });
         }
         ex.values = vec![0.0; ex.slot_source.len()];
+        ex.out_runs = (0..np)
+            .map(|p| ReadRun::of(sys, p, &ex.out_vrs[p]))
+            .collect();
         Ok(ex)
     }
 
@@ -143,11 +178,22 @@ impl Exchange {
         if vrs.is_empty() {
             return Ok(());
         }
-        self.scratch.clear();
-        self.scratch.resize(vrs.len(), 0.0);
         let part = &mut sys.participants[p];
-        part.get_real(vrs, &mut self.scratch)
-            .map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
+        self.scratch.clear();
+        let read = match &self.out_runs[p] {
+            Some(run) => {
+                self.run_values.resize(run.vrs.len(), 0.0);
+                let read = part.get_real(&run.vrs, &mut self.run_values);
+                let values = &self.run_values;
+                self.scratch.extend(run.at.iter().map(|&i| values[i]));
+                read
+            }
+            None => {
+                self.scratch.resize(vrs.len(), 0.0);
+                part.get_real(vrs, &mut self.scratch)
+            }
+        };
+        read.map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
         for (k, (&slot, &v)) in self.out_slots[p].iter().zip(&self.scratch).enumerate() {
             if !v.is_finite() {
                 return Err(CouplingError::new(format!(
