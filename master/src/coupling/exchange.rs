@@ -275,3 +275,95 @@ impl Exchange {
 pub(crate) fn same_time(a: f64, b: f64, h: f64) -> bool {
     (a - b).abs() <= 1e-6 * h.abs().max(f64::MIN_POSITIVE)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coupling::system::{Connection, Participant, StepStatus};
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    /// Outputs `vr ↦ 10 vr`; the value references it declares; the lists it was asked for.
+    struct Table {
+        declared: Vec<u32>,
+        asked: Rc<RefCell<Vec<Vec<u32>>>>,
+    }
+
+    impl Participant for Table {
+        fn name(&self) -> &str {
+            "table"
+        }
+        fn set_real(&mut self, _vrs: &[u32], _values: &[f64]) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
+            self.asked.borrow_mut().push(vrs.to_vec());
+            for (&vr, v) in vrs.iter().zip(values) {
+                if !self.declared.contains(&vr) {
+                    return Err(CouplingError::new(format!("vr {vr} is not declared")));
+                }
+                *v = 10.0 * vr as f64;
+            }
+            Ok(())
+        }
+        fn do_step(&mut self, _t: f64, _h: f64) -> Result<StepStatus, CouplingError> {
+            Ok(StepStatus::Ok)
+        }
+        fn save_state(&mut self) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn restore_state(&mut self) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn variable_name(&self, vr: u32) -> Option<String> {
+            self.declared.contains(&vr).then(|| format!("v{vr}"))
+        }
+    }
+
+    /// Reads the outputs `from_vrs` of a table declaring `declared` (each connected to an
+    /// input of a second table); returns the slot values and the lists asked for.
+    fn read(declared: Vec<u32>, from_vrs: &[u32]) -> (Vec<f64>, Vec<Vec<u32>>) {
+        let asked = Rc::new(RefCell::new(Vec::new()));
+        let source = Table {
+            declared,
+            asked: asked.clone(),
+        };
+        let sink = Table {
+            declared: Vec::new(),
+            asked: Rc::default(),
+        };
+        let connections = (from_vrs.iter().enumerate())
+            .map(|(i, &vr)| Connection {
+                from: 0,
+                from_vr: vr,
+                to: 1,
+                to_vr: i as u32,
+            })
+            .collect();
+        let mut sys = System::new(vec![Box::new(source), Box::new(sink)], connections);
+        let mut ex = Exchange::new(&sys).unwrap();
+        ex.read_outputs(&mut sys, 0).unwrap();
+        let asked = asked.borrow().clone();
+        (ex.values.clone(), asked)
+    }
+
+    #[test]
+    fn outputs_close_together_are_read_as_one_run_of_declared_variables() {
+        // 5 of the 9 declared value references 10..=18, out of order: one run, picked right
+        let (values, asked) = read((10..=18).collect(), &[12, 10, 11, 16, 15]);
+        assert_eq!(values, vec![120.0, 100.0, 110.0, 160.0, 150.0]);
+        assert_eq!(asked, vec![(10..=16).collect::<Vec<u32>>()]);
+    }
+
+    #[test]
+    fn outputs_far_apart_or_around_undeclared_ones_are_read_one_by_one() {
+        // the run 10..=30 would be more than twice as long as the three outputs
+        let (values, asked) = read((10..=30).collect(), &[10, 20, 30]);
+        assert_eq!(values, vec![100.0, 200.0, 300.0]);
+        assert_eq!(asked, vec![vec![10, 20, 30]]);
+        // vr 11 lies in the run but is not a declared variable
+        let (values, asked) = read(vec![10, 12, 13], &[10, 12, 13]);
+        assert_eq!(values, vec![100.0, 120.0, 130.0]);
+        assert_eq!(asked, vec![vec![10, 12, 13]]);
+    }
+}
