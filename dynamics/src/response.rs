@@ -120,6 +120,9 @@ pub struct Recorder<W: Write> {
     times: Vec<f64>,
     out: Option<W>,
     pub rows: usize,
+    /// The row being written and its text (kept to reuse their allocations).
+    row: Vec<f64>,
+    line: String,
 }
 
 impl<W: Write> Recorder<W> {
@@ -143,12 +146,15 @@ impl<W: Write> Recorder<W> {
             layout,
             out,
             rows: 0,
+            row: Vec::new(),
+            line: String::new(),
         })
     }
 
     /// Record one sample (also writes a history row when `write_row`).
     pub fn record(&mut self, s: &Sample, write_row: bool) -> std::io::Result<()> {
-        let mut row: Vec<f64> = Vec::with_capacity(64);
+        let mut row = std::mem::take(&mut self.row);
+        row.clear();
         row.push(s.t);
         for (p, m) in s.probes.iter().zip(self.probes.iter_mut()) {
             m.vertical_displacement_max_m = m.vertical_displacement_max_m.max(p.z.abs());
@@ -182,20 +188,25 @@ impl<W: Write> Recorder<W> {
             sf.lateral_force_max_n = sf.lateral_force_max_n.max(l.q.abs());
             row.extend([f.x, f.z, f.y, l.derail, l.offload]);
         }
-        if write_row {
-            if let Some(o) = self.out.as_mut() {
-                let mut line = String::with_capacity(row.len() * 24);
+        let written = match self.out.as_mut() {
+            Some(o) if write_row => {
+                let line = &mut self.line;
+                line.clear();
                 for (k, v) in row.iter().enumerate() {
                     if k > 0 {
                         line.push(',');
                     }
-                    line.push_str(&format!("{v:e}"));
+                    let _ = std::fmt::Write::write_fmt(line, format_args!("{v:e}"));
                 }
-                writeln!(o, "{line}")?;
-                self.rows += 1;
+                line.push('\n');
+                let written = o.write_all(line.as_bytes());
+                self.rows += usize::from(written.is_ok());
+                written
             }
-        }
-        Ok(())
+            _ => Ok(()),
+        };
+        self.row = row;
+        written
     }
 
     /// Finish: compute Sperling indices, flush the history.
