@@ -232,11 +232,11 @@ impl ModalBridge {
     /// Rail shapes Ψ at `x`: `out[n] = (φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` — the lateral, roll and
     /// vertical rail motion per unit modal coordinate. Returns false (zeros) off the deck.
     pub fn rail_shapes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
-        if !self.deck_shapes(x, out) {
-            return false;
+        let on = self.deck_shapes(x, out);
+        if on {
+            self.deck_to_rail(out);
         }
-        self.deck_to_rail(out);
-        true
+        on
     }
 
     /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` in place (eq. 8).
@@ -293,11 +293,11 @@ impl ModalBridge {
     /// Slopes of the rail shapes, `dΨ/dx` at `x` ([`Self::deck_shape_slopes`] through eq. 8).
     /// Returns false (zeros) off the deck.
     pub fn rail_shape_slopes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
-        if !self.deck_shape_slopes(x, out) {
-            return false;
+        let on = self.deck_shape_slopes(x, out);
+        if on {
+            self.deck_to_rail(out);
         }
-        self.deck_to_rail(out);
-        true
+        on
     }
 }
 
