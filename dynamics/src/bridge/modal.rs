@@ -223,7 +223,8 @@ impl ModalBridge {
             }
             Shapes::Nodal { x_m, values, order } => {
                 let (start, w) = lagrange_weights(x_m, *order, x);
-                nodal_combination(values, start, &w[..(*order).min(x_m.len()).min(8)], out);
+                let k = (*order).min(x_m.len()).min(w.len());
+                nodal_combination(values, start, &w[..k], out);
             }
         }
         true
@@ -284,7 +285,8 @@ impl ModalBridge {
             }
             Shapes::Nodal { x_m, values, order } => {
                 let (start, w) = lagrange_weight_slopes(x_m, *order, x);
-                nodal_combination(values, start, &w[..(*order).min(x_m.len()).min(8)], out);
+                let k = (*order).min(x_m.len()).min(w.len());
+                nodal_combination(values, start, &w[..k], out);
             }
         }
         true

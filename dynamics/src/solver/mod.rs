@@ -119,8 +119,13 @@ pub fn rail_prescribed(
     x: f64,
     t: f64,
 ) -> [Vector3<f64>; 3] {
-    let mut r = rail_motion(&track.at(x), train.speed_m_s);
     let h = crate::track::hunting_motion(&train.hunting, w, train.speed_m_s * t, train.speed_m_s);
+    add_hunting(&rail_motion(&track.at(x), train.speed_m_s), &h)
+}
+
+/// `rail` with the lateral hunting motion `h = (Y_h, Ẏ_h, Ÿ_h)` added.
+pub(crate) fn add_hunting(rail: &[Vector3<f64>; 3], h: &[f64; 3]) -> [Vector3<f64>; 3] {
+    let mut r = *rail;
     r[0].x += h[0];
     r[1].x += h[1];
     r[2].x += h[2];

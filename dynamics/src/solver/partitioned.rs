@@ -13,7 +13,7 @@
 //! eq. (14): the co-simulation and the monolithic solution coincide to the iteration
 //! tolerance.
 
-use super::{VehicleState, WheelForce};
+use super::{add_hunting, VehicleState, WheelForce};
 use crate::bridge::ModalBridge;
 use crate::newmark::Newmark;
 use crate::sparse::{Csr, SparseCholesky};
@@ -659,19 +659,12 @@ impl TrainSide {
         self.train.x_at(self.wheelsets[w].offset_m, t)
     }
 
-    fn with_hunting(&self, w: usize, t: f64, rail: &[Vector3<f64>; 3]) -> [Vector3<f64>; 3] {
-        let v = self.train.speed_m_s;
-        add_hunting(
-            rail,
-            &crate::track::hunting_motion(&self.train.hunting, w, v * t, v),
-        )
-    }
-
     /// Static equilibrium at time `t` on the given rail motion (deck plus irregularity).
     pub fn initialize(&mut self, t: f64, rails: &[[Vector3<f64>; 3]]) {
         self.t = t;
-        self.rails = (0..rails.len())
-            .map(|w| self.with_hunting(w, t, &rails[w]))
+        let hunting = self.hunting.at(&self.train, rails.len(), t);
+        self.rails = (rails.iter().zip(hunting))
+            .map(|(r, h)| add_hunting(r, h))
             .collect();
         let mut first = 0;
         for (i, tv) in self.train.vehicles.iter().enumerate() {
@@ -753,15 +746,6 @@ impl TrainSide {
         let c = &self.forces[w];
         c.force(&self.states[c.vehicle], &self.rails[w])
     }
-}
-
-/// `rail` with the lateral hunting motion `h = (Y_h, Ẏ_h, Ÿ_h)` added.
-fn add_hunting(rail: &[Vector3<f64>; 3], h: &[f64; 3]) -> [Vector3<f64>; 3] {
-    let mut r = *rail;
-    r[0].x += h[0];
-    r[1].x += h[1];
-    r[2].x += h[2];
-    r
 }
 
 /// Rail shapes and track irregularity at the last two positions of each wheelset slot (the

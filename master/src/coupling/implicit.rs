@@ -152,11 +152,6 @@ impl Implicit {
         self
     }
 
-    /// Participant steps spent on step Jacobians so far ([`StepJacobian::probes`]).
-    pub fn jacobian_probes(&self) -> usize {
-        self.jacobian.probes()
-    }
-
     /// Number of interface unknowns `n` (distinct feedback sources); 0 before the first use.
     pub fn interface_size(&self) -> usize {
         self.exchange.as_ref().map_or(0, Exchange::unknowns)
