@@ -610,7 +610,7 @@ impl Instance {
             // SAFETY: both slices have vrs.len() elements.
             |f, c| unsafe { (f.get_real)(c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) },
         )?;
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        if let Some(i) = first_non_finite(values) {
             return Err(FmiError::NonFinite {
                 fmu: self.fmu.name.clone(),
                 call: format!("fmi2GetReal (instance \"{}\")", self.name),
@@ -1048,6 +1048,42 @@ impl Instance {
                     let _ = self.free_fmu_state(state);
                 }
                 Err(e)
+            }
+        }
+    }
+}
+
+/// The index of the first NaN or infinite value, if any. The common all-finite case is one
+/// branch-free pass over the exponent bits (it vectorises; `position` with its early exit
+/// does not), the index search only runs when that pass found one.
+pub fn first_non_finite(values: &[f64]) -> Option<usize> {
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    let non_finite = values
+        .iter()
+        .filter(|v| v.to_bits() & EXPONENT == EXPONENT)
+        .count();
+    if non_finite == 0 {
+        None
+    } else {
+        values.iter().position(|v| !v.is_finite())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::first_non_finite;
+
+    #[test]
+    fn the_first_nan_or_infinity_is_found_wherever_it_is() {
+        assert_eq!(first_non_finite(&[]), None);
+        let finite = [0.0, -0.0, f64::MAX, f64::MIN_POSITIVE, 5e-324, -1.5];
+        assert_eq!(first_non_finite(&finite), None);
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for at in 0..finite.len() {
+                let mut v = finite.to_vec();
+                v[at] = bad;
+                v.push(bad);
+                assert_eq!(first_non_finite(&v), Some(at), "{bad} at {at}");
             }
         }
     }

@@ -470,21 +470,23 @@ impl StepBase {
             && [&s.v, &s.vd, &s.vdd]
                 .iter()
                 .zip(self.key.chunks_exact(n))
-                .all(|(a, b)| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()))
+                .all(|(a, b)| (a.as_slice().iter().zip(b)).all(|(x, y)| x.to_bits() == y.to_bits()))
     }
 
     fn make(&mut self, h: f64, s: &VehicleState, sp: &VehicleSparse, chol: &SparseCholesky) {
         let nm = Newmark::new(h);
         self.h = h;
         self.key.clear();
-        self.key.extend(s.v.iter().chain(&s.vd).chain(&s.vdd));
+        for part in [&s.v, &s.vd, &s.vdd] {
+            self.key.extend_from_slice(part.as_slice());
+        }
+        let (v, vd, vdd) = (s.v.as_slice(), s.vd.as_slice(), s.vdd.as_slice());
         self.vp.clear();
-        self.vp.extend(
-            (s.v.iter().zip(&s.vd).zip(&s.vdd)).map(|((v, vd), a)| v + h * vd + 0.25 * h * h * a),
-        );
+        self.vp
+            .extend((v.iter().zip(vd).zip(vdd)).map(|((v, vd), a)| v + h * vd + 0.25 * h * h * a));
         self.vdp.clear();
         self.vdp
-            .extend((s.vd.iter().zip(&s.vdd)).map(|(vd, a)| vd + 0.5 * h * a));
+            .extend((vd.iter().zip(vdd)).map(|(vd, a)| vd + 0.5 * h * a));
         self.b.clear();
         self.b.resize(s.v.len(), 0.0);
         sp.c.mul_add(-nm.a0, &self.vdp, &mut self.b);
@@ -726,9 +728,9 @@ impl TrainSide {
                         *ai += wi;
                     }
                 }
-                let a = &s.vdd;
-                for (((v, vd), a), (vp, vdp)) in (s.v.iter_mut().zip(s.vd.iter_mut()).zip(a.iter()))
-                    .zip(base.vp.iter().zip(&base.vdp))
+                let (v, vd, a) = (s.v.as_mut_slice(), s.vd.as_mut_slice(), s.vdd.as_slice());
+                for (((v, vd), a), (vp, vdp)) in
+                    (v.iter_mut().zip(vd.iter_mut()).zip(a)).zip(base.vp.iter().zip(&base.vdp))
                 {
                     *v = vp + 0.25 * h * h * a;
                     *vd = vdp + 0.5 * h * a;

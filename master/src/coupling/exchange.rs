@@ -179,30 +179,42 @@ impl Exchange {
             return Ok(());
         }
         let part = &mut sys.participants[p];
-        self.scratch.clear();
+        let slots = &self.out_slots[p];
         let read = match &self.out_runs[p] {
             Some(run) => {
                 self.run_values.resize(run.vrs.len(), 0.0);
-                let read = part.get_real(&run.vrs, &mut self.run_values);
-                let values = &self.run_values;
-                self.scratch.extend(run.at.iter().map(|&i| values[i]));
-                read
+                part.get_real(&run.vrs, &mut self.run_values)
             }
             None => {
-                self.scratch.resize(vrs.len(), 0.0);
-                part.get_real(vrs, &mut self.scratch)
+                self.run_values.resize(vrs.len(), 0.0);
+                part.get_real(vrs, &mut self.run_values)
             }
         };
         read.map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
-        for (k, (&slot, &v)) in self.out_slots[p].iter().zip(&self.scratch).enumerate() {
-            if !v.is_finite() {
+        // position k of the connected outputs is run_values[at[k]] (or run_values[k])
+        let at = |k: usize| self.out_runs[p].as_ref().map_or(k, |run| run.at[k]);
+        if fmi_import::first_non_finite(&self.run_values).is_some() {
+            let values = &self.run_values;
+            if let Some(k) = (0..slots.len()).find(|&k| !values[at(k)].is_finite()) {
                 return Err(CouplingError::new(format!(
-                    "{}: output vr {} is not finite ({v})",
+                    "{}: output vr {} is not finite ({})",
                     part.name(),
-                    vrs[k]
+                    vrs[k],
+                    values[at(k)]
                 )));
             }
-            self.values[slot] = v;
+        }
+        match &self.out_runs[p] {
+            Some(run) => {
+                for (&slot, &i) in slots.iter().zip(&run.at) {
+                    self.values[slot] = self.run_values[i];
+                }
+            }
+            None => {
+                for (&slot, &v) in slots.iter().zip(&self.run_values) {
+                    self.values[slot] = v;
+                }
+            }
         }
         Ok(())
     }

@@ -75,7 +75,7 @@
 //! iteration ends as not converged with the state of the last sweep.
 
 use super::acceleration::Acceleration;
-use super::convergence::{number_by_key, Groups, WeightedRms};
+use super::convergence::{max_abs_into, members_of, number_by_key, Groups, WeightedRms};
 use super::exchange::{same_time, Exchange};
 use super::jacobian::StepJacobian;
 use super::scheme::{do_step, restore_all, save_all, CouplingScheme, StepReport};
@@ -108,8 +108,10 @@ pub struct Implicit {
     spare: Vec<Vec<f64>>,
     /// Interface values read by `initialize`, used as the start value of the first step.
     initial: Option<Vec<f64>>,
-    /// Scaling block of each unknown, and the largest |x̃| seen in each block during the run.
+    /// Scaling block of each unknown, the unknowns of each block, and the largest |x̃| seen
+    /// in each block during the run.
     block_of: Vec<usize>,
+    block_members: Vec<Vec<usize>>,
     block_max: Vec<f64>,
     /// Convergence groups of the unknowns ([`Exchange::groups`]).
     groups: Groups,
@@ -138,6 +140,7 @@ impl Implicit {
             spare: Vec::new(),
             initial: None,
             block_of: Vec::new(),
+            block_members: Vec::new(),
             block_max: Vec::new(),
             groups: Groups::default(),
             x: Vec::new(),
@@ -172,6 +175,7 @@ impl Implicit {
         self.acceleration.initialize(ex.unknowns());
         let n_blocks;
         (self.block_of, n_blocks) = number_by_key(ex.feedback_pairs.iter().copied());
+        self.block_members = members_of(&self.block_of, n_blocks);
         self.block_max = vec![0.0; n_blocks];
         self.groups = ex.groups(ex.feedback_slots.iter().copied());
         self.exchange = Some(ex);
@@ -293,7 +297,7 @@ impl CouplingScheme for Implicit {
                 self.acceleration.set_jacobian(j);
             }
             if k == 0 {
-                record_magnitudes(&self.block_of, &mut self.block_max, &self.x_tilde);
+                max_abs_into(&self.block_members, &self.x_tilde, &mut self.block_max);
                 let WeightedRms { rtol, atol } = self.measure;
                 self.scale.clear();
                 self.scale.extend(
@@ -335,20 +339,11 @@ impl CouplingScheme for Implicit {
         }
         self.acceleration.end_step(report.converged);
         if report.converged {
-            record_magnitudes(&self.block_of, &mut self.block_max, &self.x_tilde);
+            max_abs_into(&self.block_members, &self.x_tilde, &mut self.block_max);
         }
         let mut kept = self.spare.pop().unwrap_or_default();
         kept.clone_from(&self.x_tilde);
         self.history.push((t + h, kept));
         Ok(report)
-    }
-}
-
-/// `X_b ← max(X_b, |x̃ᵢ|)` for the block `b` of each unknown `i`.
-/// Numbers the distinct keys in order of first appearance: the number of each item's key and
-/// the count of distinct keys.
-fn record_magnitudes(block_of: &[usize], block_max: &mut [f64], x_tilde: &[f64]) {
-    for (&b, &v) in block_of.iter().zip(x_tilde) {
-        block_max[b] = block_max[b].max(v.abs());
     }
 }
