@@ -211,8 +211,13 @@ impl ModalBridge {
                 if kmax >= 1 {
                     s[1] = theta.sin();
                     let c2 = 2.0 * theta.cos();
-                    for k in 2..=kmax {
-                        s[k] = c2 * s[k - 1] - s[k - 2];
+                    // the last two values in registers: the chain is one multiply and one
+                    // subtraction per k, not a store and reload of s[k − 1] as well
+                    let (mut prev, mut cur) = (s[0], s[1]);
+                    for sk in &mut s[2..] {
+                        let next = c2 * cur - prev;
+                        *sk = next;
+                        (prev, cur) = (cur, next);
                     }
                 }
                 for (i, o) in out.iter_mut().enumerate() {
