@@ -120,7 +120,9 @@ def main():
         t1 = min(start + k * h, stop)
         transfer()
         for s in slaves:
-            s.doStep(currentCommunicationPoint=t, communicationStepSize=t1 - t)
+            # the nominal step, as FMPy's simulate_fmu passes it (t1 - t jitters with the
+            # rounding of t)
+            s.doStep(currentCommunicationPoint=t, communicationStepSize=h)
         rows.append(row(t1))
 
     for s in slaves:
