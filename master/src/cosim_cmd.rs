@@ -8,7 +8,8 @@
 //! Output: a CSV (default `<SYSTEM stem>_out.csv`) with `time`, then every connected output
 //! as `component.variable` (in connection order; Integer and Boolean values as integers,
 //! Booleans 0/1), then the `--record` variables; a row
-//! after initialisation and one after each communication step, every number in full
+//! after initialisation and one after each communication step (with `--output-interval`,
+//! after each step ending at a multiple of the interval, and after the last), every number in full
 //! precision (shortest round-trip form, scientific notation as in `history.csv`). Beside it `<CSV>.json`: steps, iterations per step
 //! (mean, max), the largest final residual of the interface iteration (explicit schemes:
 //! the interface defect), the options used, and the connections the scheme lagged by one
@@ -58,6 +59,10 @@ pub struct CosimArgs {
     /// Result CSV (default `<SYSTEM stem>_out.csv`).
     #[arg(long)]
     pub output: Option<PathBuf>,
+    /// Time between result rows, s: a whole multiple of the step size (default: a row after
+    /// every step). The last step always has a row.
+    #[arg(long, allow_negative_numbers = true)]
+    pub output_interval: Option<f64>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -157,6 +162,10 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         .into());
     }
     let steps = steps as usize;
+    let every = match args.output_interval {
+        None => 1,
+        Some(dt) => steps_per_row(dt, h)?,
+    };
     let mut sets = Vec::new();
     for item in &args.set {
         let (name, value) = item
@@ -242,7 +251,9 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         let report = advance(scheme.as_mut(), sys, t, hk, cfg.policy(hk))
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);
-        row(sys, t1, &mut csv)?;
+        if k.is_multiple_of(every) || k == steps {
+            row(sys, t1, &mut csv)?;
+        }
         if k % 256 == 0 {
             pb.set_position(k as u64);
         }
@@ -282,6 +293,24 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// The steps per result row of `--output-interval dt` with step size `h`: `dt / h`, which must
+/// be a positive whole number (to 1e-9 of it).
+fn steps_per_row(dt: f64, h: f64) -> Result<usize, String> {
+    let ratio = dt / h;
+    let whole = ratio.round();
+    if !(dt.is_finite() && dt > 0.0 && whole >= 1.0 && (ratio - whole).abs() <= 1e-9 * whole) {
+        return Err(format!(
+            "--output-interval {dt}: must be a positive whole multiple of the step size {h} s"
+        ));
+    }
+    if whole > 1e9 {
+        return Err(format!(
+            "--output-interval {dt}: more than 1e9 steps of {h} s between rows"
+        ));
+    }
+    Ok(whole as usize)
 }
 
 /// Step `k` (1-based) of `steps`: its start `t = start + (k − 1) h`, its end `t₁` and its size.
@@ -378,6 +407,21 @@ impl Rows {
 #[cfg(test)]
 mod tests {
     use super::communication_step;
+
+    #[test]
+    fn output_intervals_are_whole_multiples_of_the_step() {
+        use super::steps_per_row;
+        assert_eq!(steps_per_row(0.002, 0.002), Ok(1));
+        assert_eq!(steps_per_row(0.01, 0.002), Ok(5));
+        assert_eq!(steps_per_row(0.1, 0.001), Ok(100));
+        for bad in [0.003, 0.001, 0.0, -0.01, f64::NAN, f64::INFINITY] {
+            let e = steps_per_row(bad, 0.002).unwrap_err();
+            assert!(
+                e.contains("--output-interval") && e.contains("0.002"),
+                "{e}"
+            );
+        }
+    }
 
     /// Every step of the Tsing Ma run (65 059 steps of 2 ms to 130.118 s) has the nominal size
     /// bit for bit, although `t₁ − t` differs from it in most steps; a run whose end is not a

@@ -88,6 +88,56 @@ fn cosim_on_the_exported_system_equals_tbi_run() {
     assert_eq!(json["accepted_unconverged"], 0);
 }
 
+/// `--output-interval` keeps the rows of every k-th step (and the last) of the full result,
+/// bit for bit; an interval that is not a whole number of steps is refused, naming it.
+#[test]
+fn an_output_interval_keeps_every_kth_row() {
+    let dir = scratch("cosim-output-interval");
+    let ssp = export(&dir);
+    let full = cosim(&ssp, &dir.join("full.csv"), &[]);
+    let h = tbi_tests::read_json(&dir.join("full.csv.json"))["step_size_s"]
+        .as_f64()
+        .unwrap();
+    let every = 7;
+    let sparse = cosim(
+        &ssp,
+        &dir.join("sparse.csv"),
+        &["--output-interval", &(every as f64 * h).to_string()],
+    );
+    let steps = full.rows.len() - 1;
+    let mut want: Vec<&Vec<f64>> = full.rows.iter().step_by(every).collect();
+    if !steps.is_multiple_of(every) {
+        want.push(full.rows.last().unwrap());
+    }
+    assert_eq!(sparse.columns, full.columns);
+    assert_eq!(sparse.rows.len(), want.len());
+    for (got, want) in sparse.rows.iter().zip(want) {
+        assert!(
+            got.iter()
+                .zip(want)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "row at t = {} differs",
+            want[0]
+        );
+    }
+    let out = run(tbi_command()
+        .arg("cosim")
+        .arg(&ssp)
+        .args([
+            "--quiet",
+            "--output-interval",
+            &(1.5 * h).to_string(),
+            "--output",
+        ])
+        .arg(dir.join("bad.csv")));
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("--output-interval") && err.contains("whole multiple of the step size"),
+        "{err}"
+    );
+}
+
 #[test]
 fn a_parameter_binding_sets_the_train_speed() {
     let dir = scratch("cosim-binding");
