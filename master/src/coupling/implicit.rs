@@ -15,7 +15,7 @@
 //!
 //! The coupled (monolithic) solution of the step is the fixed point `x = H(x)`. The iteration
 //! runs `x₀ → x̃₀ → x₁ → …` until the weighted RMS measure of
-//! [`WeightedRms`](super::convergence::WeightedRms),
+//! [`WeightedRms`],
 //!
 //! ```text
 //! ‖x̃ₖ − xₖ‖ = sqrt( (1/n) Σᵢ ((x̃ₖ,ᵢ − xₖ,ᵢ) / (rtol·X_g(i) + atol))² ) ≤ 1 ,

@@ -44,7 +44,7 @@
 //!
 //! # Master loop
 //!
-//! [`advance`] performs one macro step and applies [`OnNonConvergence`] (stop, retry with
+//! [`advance()`] performs one macro step and applies [`OnNonConvergence`] (stop, retry with
 //! halved steps after rollback, or accept and report); [`CouplingStatistics`] accumulates the
 //! iteration counts of a run. [`CouplingConfig`] mirrors the scenario keys and
 //! [`build_scheme`] constructs the configured scheme.

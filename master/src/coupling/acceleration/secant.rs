@@ -147,7 +147,7 @@ impl Window {
 /// that pass a QR2 filter, taken in the given order: column `j` is dropped when the norm of its
 /// part orthogonal to the columns kept so far is `≤ limit · ‖aⱼ‖` (or when it is zero or not
 /// finite; `limit` is raised to 1e-6, see the module documentation), and at most `n` columns are
-/// kept. Solved by the normal equations as in [`IqnIls`]. Returns `c` with `cⱼ = 0` for dropped
+/// kept. Solved by the normal equations as in [`IqnIls`](super::iqn_ils::IqnIls). Returns `c` with `cⱼ = 0` for dropped
 /// columns.
 pub fn filtered_least_squares(columns: &[Vec<f64>], b: &[f64], limit: f64) -> Vec<f64> {
     let ones = vec![1.0; b.len()];
