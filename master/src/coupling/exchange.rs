@@ -295,9 +295,11 @@ mod tests {
     use std::cell::RefCell;
     use std::rc::Rc;
 
-    /// Outputs `vr ↦ 10 vr`; the value references it declares; the lists it was asked for.
+    /// Outputs `vr ↦ 10 vr` (NaN for those in `nan`); the value references it declares; the
+    /// lists it was asked for.
     struct Table {
         declared: Vec<u32>,
+        nan: Vec<u32>,
         asked: Rc<RefCell<Vec<Vec<u32>>>>,
     }
 
@@ -314,7 +316,11 @@ mod tests {
                 if !self.declared.contains(&vr) {
                     return Err(CouplingError::new(format!("vr {vr} is not declared")));
                 }
-                *v = 10.0 * vr as f64;
+                *v = if self.nan.contains(&vr) {
+                    f64::NAN
+                } else {
+                    10.0 * vr as f64
+                };
             }
             Ok(())
         }
@@ -335,13 +341,25 @@ mod tests {
     /// Reads the outputs `from_vrs` of a table declaring `declared` (each connected to an
     /// input of a second table); returns the slot values and the lists asked for.
     fn read(declared: Vec<u32>, from_vrs: &[u32]) -> (Vec<f64>, Vec<Vec<u32>>) {
+        let (values, asked) = read_with_nan(declared, Vec::new(), from_vrs);
+        (values.unwrap(), asked)
+    }
+
+    /// [`read`] from a table whose outputs `nan` are NaN: the slot values or the error.
+    fn read_with_nan(
+        declared: Vec<u32>,
+        nan: Vec<u32>,
+        from_vrs: &[u32],
+    ) -> (Result<Vec<f64>, String>, Vec<Vec<u32>>) {
         let asked = Rc::new(RefCell::new(Vec::new()));
         let source = Table {
             declared,
+            nan,
             asked: asked.clone(),
         };
         let sink = Table {
             declared: Vec::new(),
+            nan: Vec::new(),
             asked: Rc::default(),
         };
         let connections = (from_vrs.iter().enumerate())
@@ -354,9 +372,26 @@ mod tests {
             .collect();
         let mut sys = System::new(vec![Box::new(source), Box::new(sink)], connections);
         let mut ex = Exchange::new(&sys).unwrap();
-        ex.read_outputs(&mut sys, 0).unwrap();
+        let read = ex.read_outputs(&mut sys, 0).map_err(|e| e.to_string());
         let asked = asked.borrow().clone();
-        (ex.values.clone(), asked)
+        (read.map(|()| ex.values.clone()), asked)
+    }
+
+    /// A NaN among the connected outputs is an error naming its value reference, whether it
+    /// is read in a run or alone; one in the run that is not connected is no error.
+    #[test]
+    fn a_non_finite_connected_output_is_an_error_naming_it() {
+        let (read, asked) = read_with_nan((10..=18).collect(), vec![15], &[12, 10, 15, 16]);
+        assert_eq!(asked, vec![(10..=16).collect::<Vec<u32>>()]);
+        let e = read.unwrap_err();
+        assert!(e.contains("output vr 15 is not finite (NaN)"), "{e}");
+        let (read, _) = read_with_nan((10..=30).collect(), vec![30], &[10, 20, 30]);
+        let e = read.unwrap_err();
+        assert!(e.contains("output vr 30 is not finite (NaN)"), "{e}");
+        // vr 11 is read with the run 10..=13 but is not connected
+        let (read, asked) = read_with_nan((10..=18).collect(), vec![11], &[10, 12, 13]);
+        assert_eq!(asked, vec![(10..=13).collect::<Vec<u32>>()]);
+        assert_eq!(read.unwrap(), vec![100.0, 120.0, 130.0]);
     }
 
     #[test]
