@@ -236,13 +236,9 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
     writeln!(csv, "{}", header.join(","))?;
     let sys = &mut wired.system;
     let mut rows = Rows::new(&columns, sys.participants.len());
-    let mut row = |sys: &mut crate::coupling::System,
-                   t: f64,
-                   csv: &mut crate::outdir::NamedFile|
-     -> Result<(), Box<dyn std::error::Error>> { rows.write(sys, t, csv) };
     let mut scheme = build_scheme(&cfg);
     scheme.initialize(sys)?;
-    row(sys, start, &mut csv)?;
+    rows.write(sys, start, &mut csv)?;
     let mut stats = CouplingStatistics::new();
     let pb = crate::progress::bar(steps, !args.quiet);
     for k in 1..=steps {
@@ -252,7 +248,7 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);
         if k.is_multiple_of(every) || k == steps {
-            row(sys, t1, &mut csv)?;
+            rows.write(sys, t1, &mut csv)?;
         }
         if k % 256 == 0 {
             pb.set_position(k as u64);

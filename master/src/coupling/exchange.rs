@@ -26,20 +26,32 @@ struct ReadRun {
 }
 
 impl ReadRun {
-    /// The run for the connected outputs `vrs` of participant `p`: when it is at most twice as
-    /// long as they are many and every value reference in it is a declared Real variable
-    /// ([`super::system::Participant::variable_name`]; fmi2GetReal may read any variable).
-    fn of(sys: &System, p: usize, vrs: &[u32]) -> Option<ReadRun> {
-        let (lo, hi) = (*vrs.iter().min()?, *vrs.iter().max()?);
+    /// How the connected outputs `vrs` of participant `p` are read: as the run from the lowest
+    /// to the highest when it is at most twice as long as they are many and every value
+    /// reference in it is a declared Real variable
+    /// ([`super::system::Participant::variable_name`]; fmi2GetReal may read any variable),
+    /// otherwise as they are (one by one, `at` the identity).
+    fn of(sys: &System, p: usize, vrs: &[u32]) -> ReadRun {
+        let as_they_are = || ReadRun {
+            vrs: vrs.to_vec(),
+            at: (0..vrs.len()).collect(),
+        };
+        let (Some(&lo), Some(&hi)) = (vrs.iter().min(), vrs.iter().max()) else {
+            return as_they_are();
+        };
         let len = (hi - lo) as usize + 1;
         let part = &sys.participants[p];
-        (vrs.len() >= 2
+        if vrs.len() >= 2
             && len <= 2 * vrs.len()
-            && (lo..=hi).all(|vr| part.variable_name(vr).is_some()))
-        .then(|| ReadRun {
-            vrs: (lo..=hi).collect(),
-            at: vrs.iter().map(|&vr| (vr - lo) as usize).collect(),
-        })
+            && (lo..=hi).all(|vr| part.variable_name(vr).is_some())
+        {
+            ReadRun {
+                vrs: (lo..=hi).collect(),
+                at: vrs.iter().map(|&vr| (vr - lo) as usize).collect(),
+            }
+        } else {
+            as_they_are()
+        }
     }
 }
 
@@ -49,8 +61,8 @@ pub(crate) struct Exchange {
     /// Output value references read from each participant, and the slot each one fills.
     pub(super) out_vrs: Vec<Vec<u32>>,
     pub(super) out_slots: Vec<Vec<usize>>,
-    /// Per participant, the run its outputs are read as (None: read one by one).
-    out_runs: Vec<Option<ReadRun>>,
+    /// Per participant, how its outputs are read (a run, or as they are).
+    out_runs: Vec<ReadRun>,
     run_values: Vec<f64>,
     /// Input value references written to each participant, and where each takes its value.
     pub(super) in_vrs: Vec<Vec<u32>>,
@@ -179,42 +191,24 @@ impl Exchange {
             return Ok(());
         }
         let part = &mut sys.participants[p];
-        let slots = &self.out_slots[p];
-        let read = match &self.out_runs[p] {
-            Some(run) => {
-                self.run_values.resize(run.vrs.len(), 0.0);
-                part.get_real(&run.vrs, &mut self.run_values)
-            }
-            None => {
-                self.run_values.resize(vrs.len(), 0.0);
-                part.get_real(vrs, &mut self.run_values)
-            }
-        };
-        read.map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
-        // position k of the connected outputs is run_values[at[k]] (or run_values[k])
-        let at = |k: usize| self.out_runs[p].as_ref().map_or(k, |run| run.at[k]);
-        if fmi_import::first_non_finite(&self.run_values).is_some() {
-            let values = &self.run_values;
-            if let Some(k) = (0..slots.len()).find(|&k| !values[at(k)].is_finite()) {
+        let run = &self.out_runs[p];
+        self.run_values.resize(run.vrs.len(), 0.0);
+        part.get_real(&run.vrs, &mut self.run_values)
+            .map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
+        // connected output k is run_values[at[k]]
+        let values = &self.run_values;
+        if fmi_import::first_non_finite(values).is_some() {
+            if let Some(k) = (0..vrs.len()).find(|&k| !values[run.at[k]].is_finite()) {
                 return Err(CouplingError::new(format!(
                     "{}: output vr {} is not finite ({})",
                     part.name(),
                     vrs[k],
-                    values[at(k)]
+                    values[run.at[k]]
                 )));
             }
         }
-        match &self.out_runs[p] {
-            Some(run) => {
-                for (&slot, &i) in slots.iter().zip(&run.at) {
-                    self.values[slot] = self.run_values[i];
-                }
-            }
-            None => {
-                for (&slot, &v) in slots.iter().zip(&self.run_values) {
-                    self.values[slot] = v;
-                }
-            }
+        for (&slot, &i) in self.out_slots[p].iter().zip(&run.at) {
+            self.values[slot] = values[i];
         }
         Ok(())
     }
