@@ -27,7 +27,9 @@ use tbi_dynamics::interface::{
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, ProbeValues, WheelInput};
 use tbi_dynamics::track::{RailProfile, Smooth};
 
-/// GUID of a bridge FMU with these resource bytes (`bridge.json` then `track.csv`).
+/// GUID of a bridge FMU with these resource bytes: `bridge.json`, then (with a track
+/// record) the record's [`tbi_track::Profile::identity_bytes`], which its reader and its
+/// writer compute alike without hashing the text.
 pub fn guid_for(resource_bytes: &[u8]) -> String {
     fmi_export::guid(BRIDGE_ID, BUILD_ID, resource_bytes)
 }
@@ -191,7 +193,7 @@ impl FmuModel for BridgeFmu {
                 &tp.display().to_string(),
             )
             .map_err(|e| e.to_string())?;
-            all.extend_from_slice(&text);
+            all.extend_from_slice(&record.profile().identity_bytes());
             Arc::new(tbi_track::Irregularity::Record(record))
         } else {
             Arc::new(Smooth)

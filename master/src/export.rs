@@ -5,8 +5,11 @@
 //! workspace (`cargo build --release`); they are looked up next to the `tbi` executable (or
 //! in `$TBI_FMU_LIB_DIR`). The scenario's data travel in `resources/`: the modal bridge,
 //! probes and wheelset count (`bridge.json`), the irregularity record (`track.csv`) and the
-//! train (`train.json`), the turbulence (`wind.json`). GUIDs are derived from the build identifier and those bytes, so a
-//! description always matches its resources.
+//! train (`train.json`), the turbulence (`wind.json`). GUIDs are derived from the build
+//! identifier and those bytes (for the track record, from the bits its text is written from:
+//! [`tbi_track::Irregularity::record_identity`]), so a description always matches its
+//! resources. An FMU already in the folder is reused when its GUID matches and its packed
+//! shared object has the length and CRC-32 of the current library.
 
 use crate::coupling::CouplingConfig;
 use crate::model::Model;
@@ -258,7 +261,9 @@ pub fn export_with(
     }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let libs = library_dir()?;
-    let track_csv = model.track.to_record_csv();
+    // The GUID digests what determines the track record; the record itself is written only
+    // when the FMU is (re)packaged.
+    let track_identity = model.track.record_identity();
     let bridge_res = BridgeResources {
         modal: model.bridge.clone(),
         probes: model
@@ -270,16 +275,21 @@ pub fn export_with(
             })
             .collect(),
         n_wheelsets: model.train.n_wheelsets(),
-        has_track_record: track_csv.is_some(),
+        has_track_record: track_identity.is_some(),
     };
     let bridge_layout = BridgeLayout::of(&bridge_res);
     let bridge_json = serde_json::to_vec_pretty(&bridge_res).map_err(|e| e.to_string())?;
     let mut bridge_bytes = bridge_json.clone();
-    let mut bridge_files = vec![(BRIDGE_RESOURCE.to_string(), bridge_json)];
-    if let Some(csv) = track_csv {
-        bridge_bytes.extend_from_slice(csv.as_bytes());
-        bridge_files.push((TRACK_RESOURCE.to_string(), csv.into_bytes()));
+    if let Some(identity) = &track_identity {
+        bridge_bytes.extend_from_slice(identity);
     }
+    let bridge_files = || {
+        let mut files = vec![(BRIDGE_RESOURCE.to_string(), bridge_json)];
+        if let Some(csv) = model.track.to_record_csv() {
+            files.push((TRACK_RESOURCE.to_string(), csv.into_bytes()));
+        }
+        files
+    };
     let train_res = model.train_res.clone();
     let train_layout = TrainLayout::of(&train_res);
     let train_json = serde_json::to_vec_pretty(&train_res).map_err(|e| e.to_string())?;
@@ -298,14 +308,14 @@ pub fn export_with(
         (BRIDGE_ID, &bridge_guid, fmu_bridge::layout::DESCRIPTION),
         &bridge_layout.variables(&bridge_res),
         || fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _),
-        &bridge_files,
+        bridge_files,
     )?;
     package.fmu::<fmu_train::TrainFmu>(
         &train_path,
         (TRAIN_ID, &train_guid, fmu_train::layout::DESCRIPTION),
         &train_layout.variables(&train_res),
         || fmu_train::TrainFmu::dependencies(&train_res),
-        &[(TRAIN_RESOURCE.to_string(), train_json)],
+        || vec![(TRAIN_RESOURCE.to_string(), train_json)],
     )?;
     let wind = match &model.bridge.buffeting {
         Some(spec) => {
@@ -337,7 +347,7 @@ pub fn export_with(
                 (WIND_ID, &guid, fmu_wind::layout::DESCRIPTION),
                 &layout.variables(&res),
                 || fmu_wind::WindFmu::dependencies(&res),
-                &[(WIND_RESOURCE.to_string(), json)],
+                || vec![(WIND_RESOURCE.to_string(), json)],
             )?;
             Some((path, res, layout))
         }
@@ -385,16 +395,16 @@ struct Packaging<'a> {
 }
 
 impl Packaging<'_> {
-    /// Write the FMU `(id, guid, description)` with these variables, dependencies (probed
-    /// only when it is written) and resource files to `path`, unless the file there has this
-    /// GUID and shared object already.
+    /// Write the FMU `(id, guid, description)` with these variables, dependencies and
+    /// resource files (both made only when it is written) to `path`, unless the file there
+    /// has this GUID and shared object already.
     fn fmu<M: fmi_export::FmuModel>(
         &self,
         path: &Path,
         (id, guid, what): (&str, &str, &str),
         vars: &[Var],
         dependencies: impl FnOnce() -> Result<Declared, String>,
-        files: &[(String, Vec<u8>)],
+        files: impl FnOnce() -> Vec<(String, Vec<u8>)>,
     ) -> Result<(), String> {
         let so = self.libs.join(format!("lib{id}.so"));
         if is_current(path, guid, id, &so) {
@@ -404,13 +414,14 @@ impl Packaging<'_> {
         let caps = fmi_export::capabilities_of::<M>();
         let xml = description_xml(id, guid, what, vars, &dependencies()?, (stop, step), caps)?;
         let doc = DOC.replace("{TITLE}", id).replace("{WHAT}", what);
-        write_fmu(path, &xml, id, &so, files, Some(&doc))
+        write_fmu(path, &xml, id, &so, &files(), Some(&doc))
             .map_err(|e| format!("{}: {e}", path.display()))
     }
 }
 
-/// Whether `fmu` exists with this GUID and exactly this shared object (so a rebuilt
-/// library is always repackaged).
+/// Whether `fmu` exists with this GUID and this shared object (so a rebuilt library is
+/// always repackaged). The packed library is compared by its length and by the CRC-32 the
+/// archive's directory records, so nothing is inflated.
 fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
     use std::io::Read;
     let Ok(f) = std::fs::File::open(fmu) else {
@@ -431,16 +442,13 @@ fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
     if !s.contains(&format!("guid=\"{guid}\"")) {
         return false;
     }
-    let mut packed = Vec::new();
-    match z.by_name(&format!("binaries/linux64/{id}.so")) {
-        Ok(mut b) => {
-            if b.read_to_end(&mut packed).is_err() {
-                return false;
-            }
-        }
+    let (size, crc) = match z.by_name(&format!("binaries/linux64/{id}.so")) {
+        Ok(b) => (b.size(), b.crc32()),
         Err(_) => return false,
-    }
-    std::fs::read(so).map(|cur| cur == packed).unwrap_or(false)
+    };
+    std::fs::read(so)
+        .map(|cur| cur.len() as u64 == size && crc32fast::hash(&cur) == crc)
+        .unwrap_or(false)
 }
 
 /// The FMUs of the coupled system, in the order of [`crate::coupling::System`]'s

@@ -155,7 +155,23 @@ impl Irregularity {
     /// The table in the record format (with slope columns; `None` for the ideal track, which
     /// is described by `irregularity = "none"`).
     pub fn to_record_csv(&self) -> Option<String> {
-        let comments = match self {
+        let comments = self.record_comments()?;
+        let mut out = Vec::new();
+        self.profile()?
+            .write_csv(&mut out, &comments)
+            .expect("writing to memory cannot fail");
+        Some(String::from_utf8(out).expect("the record format is ASCII"))
+    }
+
+    /// [`Profile::identity_bytes`] of the table (`None` for the ideal track): what identifies
+    /// [`Irregularity::to_record_csv`]'s record apart from its comments, without writing it.
+    pub fn record_identity(&self) -> Option<Vec<u8>> {
+        self.profile().map(Profile::identity_bytes)
+    }
+
+    /// The leading comment lines of the record (`None` for the ideal track).
+    fn record_comments(&self) -> Option<Vec<String>> {
+        Some(match self {
             Irregularity::None => return None,
             Irregularity::Generated(g) => {
                 let s = g.spec();
@@ -177,12 +193,7 @@ impl Irregularity {
             Irregularity::Record(r) => {
                 vec![format!("track irregularity record from {}", r.source())]
             }
-        };
-        let mut out = Vec::new();
-        self.profile()?
-            .write_csv(&mut out, &comments)
-            .expect("writing to memory cannot fail");
-        Some(String::from_utf8(out).expect("the record format is ASCII"))
+        })
     }
 
     /// Writes [`Irregularity::to_record_csv`] to `path` (nothing is written for

@@ -191,6 +191,23 @@ impl Profile {
         (self.x[0], self.x[self.x.len() - 1])
     }
 
+    /// Bytes that identify the profile: the periodic flag and the bits of every node's `x`,
+    /// value and slope, i.e. everything [`Profile::write_csv`] writes apart from comments.
+    /// Reading that text back gives the same bits, so the writer and the reader of a record
+    /// compute the same bytes; a digest of them (the bridge FMU's GUID) identifies the record
+    /// without formatting or hashing its text.
+    pub fn identity_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(1 + 56 * self.x.len());
+        out.push(u8::from(self.periodic));
+        for (x, k) in self.x.iter().zip(&self.coef) {
+            out.extend_from_slice(&x.to_bits().to_le_bytes());
+            for v in [k[0][0], k[1][0], k[2][0], k[0][1], k[1][1], k[2][1]] {
+                out.extend_from_slice(&v.to_bits().to_le_bytes());
+            }
+        }
+        out
+    }
+
     /// Writes the profile in the record format (see [`crate::record`]) with slope columns,
     /// the `# periodic` directive if periodic, and `comments` as leading `#` lines.
     /// Numbers are written in Rust's shortest round-trip form, so reading the file back gives

@@ -359,6 +359,37 @@ fn generated_record_round_trip_is_bit_exact_everywhere() {
     assert!(back.profile().is_periodic());
     let p = g.profile().unwrap();
     assert_eq!(back.profile().nodes(), p.nodes());
+    // The reader computes the writer's identity bytes (the bridge FMU's GUID rests on this);
+    // one ulp in one value or slope, or periodicity, changes them.
+    assert_eq!(
+        back.profile().identity_bytes(),
+        g.record_identity().unwrap()
+    );
+    let ulp = |text: &str, col: usize, row: usize| -> String {
+        let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+        let data: Vec<usize> = (0..lines.len())
+            .filter(|&i| !lines[i].starts_with('#') && !lines[i].starts_with('x'))
+            .collect();
+        let i = data[row];
+        let mut cells: Vec<String> = lines[i].split(',').map(str::to_owned).collect();
+        let v: f64 = cells[col].parse().unwrap();
+        cells[col] = format!("{:e}", f64::from_bits(v.to_bits() + 1));
+        lines[i] = cells.join(",");
+        lines.join("\n")
+    };
+    for (col, row) in [(5, 17), (1, 5000), (6, 1), (0, 300)] {
+        let edited = Record::parse(&ulp(&csv, col, row), "edited.csv").unwrap();
+        assert_ne!(
+            edited.profile().identity_bytes(),
+            back.profile().identity_bytes(),
+            "column {col}, row {row}"
+        );
+    }
+    let open = Record::parse(&csv.replace("# periodic\n", ""), "open.csv").unwrap();
+    assert_ne!(
+        open.profile().identity_bytes(),
+        back.profile().identity_bytes()
+    );
     let mut xs = random_points(6, 4000, -100.0, 1100.0);
     xs.extend_from_slice(&p.nodes()[..50]);
     xs.extend([-5000.0, -100.0 - 1e-9, 7777.7, 1e6 + 0.123]);
