@@ -2,8 +2,9 @@
 //! x86-64 (two-wide SSE2 vectors) and for AVX2 (four-wide) — and chosen once per call by the
 //! processor's features.
 //!
-//! Each kernel is a set of independent element-wise updates `yᵢ ← yᵢ + a·xᵢ` (no sums across
-//! elements, and Rust never contracts `a·x + y` into a fused multiply-add), so the wider
+//! Each kernel is a set of independent element-wise updates such as `yᵢ ← yᵢ + a·xᵢ`, each
+//! element's operations in a fixed order (no sums across elements, and Rust never contracts
+//! `a·x + y` into a fused multiply-add), so the wider
 //! vectors change only how many elements one instruction updates, not a single rounding:
 //! both builds give bitwise the same results (tested below).
 
@@ -44,6 +45,25 @@ pub fn rail_accumulate(acc: &mut [[f64; 4]; 3], psi: &[[f64; 3]], modal: &[[f64;
     rail_accumulate_body(acc, psi, modal)
 }
 
+/// `y[n] ← y[n] + ((psi[n][0] f[0] + psi[n][1] f[1]) + psi[n][2] f[2])` (over the shorter of
+/// the two): the generalised forces `Σ Ψᵀ f` of one wheelset's force `f`.
+#[inline]
+pub fn project_force(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked just above).
+        return unsafe { project_force_avx2(y, psi, f) };
+    }
+    project_force_body(y, psi, f)
+}
+
+#[inline(always)]
+fn project_force_body(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
+    for (o, p) in y.iter_mut().zip(psi) {
+        *o += p[0] * f[0] + p[1] * f[1] + p[2] * f[2];
+    }
+}
+
 #[inline(always)]
 fn axpy_body(y: &mut [f64], a: f64, x: &[f64]) {
     for (y, x) in y.iter_mut().zip(x) {
@@ -82,6 +102,12 @@ fn axpy_avx2(y: &mut [f64], a: f64, x: &[f64]) {
 #[target_feature(enable = "avx2")]
 fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64]) {
     axpy_columns_body(y, a, columns)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn project_force_avx2(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
+    project_force_body(y, psi, f)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -130,6 +156,14 @@ mod tests {
                 .map(|i| [x[i], 0.5 * x[i] - 1.0, (i as f64).sqrt()])
                 .collect();
             let modal: Vec<[f64; 4]> = (0..n).map(|i| [x[i], -x[i], 2.5, 0.0]).collect();
+            let f = [2.3e5, -7.7e3, 1.9e4];
+            let (mut e, mut g) = (values(n, 0.9), values(n, 0.9));
+            project_force_body(&mut e, &psi, f);
+            project_force(&mut g, &psi, f);
+            assert!(
+                e.iter().zip(&g).all(|(e, g)| e.to_bits() == g.to_bits()),
+                "project_force, n = {n}"
+            );
             let mut acc_a = [[0.1, 0.2, 0.3, 0.0], [1.0, -2.0, 3.0, 0.0], [0.0; 4]];
             let mut acc_b = acc_a;
             rail_accumulate_body(&mut acc_a, &psi, &modal);

@@ -22,6 +22,9 @@
 
 use serde::{Deserialize, Serialize};
 
+/// How many positions [`ModalBridge::rail_shapes_lanes`] takes at once.
+pub const SHAPE_LANES: usize = 4;
+
 /// How the mode shapes are represented.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Shapes {
@@ -243,6 +246,77 @@ impl ModalBridge {
             self.deck_to_rail(out);
         }
         on
+    }
+
+    /// [`Self::rail_shapes`] at up to [`SHAPE_LANES`] positions at once: `outs[j]` ← Ψ(`xs[j]`),
+    /// `on[j]` whether `xs[j]` is on the deck; the same values bit for bit. For sine shapes
+    /// the Chebyshev recurrences of the positions run interleaved (one position's recurrence
+    /// is a chain of dependent multiplies and subtractions, which leaves the processor
+    /// waiting), and the rail map is applied as each value is made instead of in a second
+    /// pass. `scratch` keeps the sines (it only grows, so repeated calls do not allocate).
+    pub fn rail_shapes_lanes(
+        &self,
+        xs: &[f64],
+        outs: &mut [&mut [[f64; 3]]],
+        on: &mut [bool],
+        scratch: &mut Vec<[f64; SHAPE_LANES]>,
+    ) {
+        let m = xs.len();
+        assert!(m <= SHAPE_LANES && outs.len() >= m && on.len() >= m);
+        let Shapes::Sine {
+            span_m,
+            half_waves,
+            amplitudes,
+        } = &self.shapes
+        else {
+            for j in 0..m {
+                on[j] = self.rail_shapes(xs[j], outs[j]);
+            }
+            return;
+        };
+        let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
+        scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
+        let s = &mut scratch[..=kmax];
+        s[0] = [0.0; SHAPE_LANES];
+        if kmax >= 1 {
+            let (mut c2, mut cur) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+            for j in 0..m {
+                on[j] = self.on_deck(xs[j]);
+                if on[j] {
+                    let theta = std::f64::consts::PI * (xs[j] - self.x_start_m) / span_m;
+                    cur[j] = theta.sin();
+                    c2[j] = 2.0 * theta.cos();
+                }
+            }
+            s[1] = cur;
+            let mut prev = s[0];
+            for sk in &mut s[2..] {
+                let mut next = [0.0; SHAPE_LANES];
+                for j in 0..SHAPE_LANES {
+                    next[j] = c2[j] * cur[j] - prev[j];
+                }
+                *sk = next;
+                (prev, cur) = (cur, next);
+            }
+        } else {
+            for j in 0..m {
+                on[j] = self.on_deck(xs[j]);
+            }
+        }
+        let (h4, e) = (self.h4_m, self.e_m);
+        for j in 0..m {
+            let out = &mut *outs[j];
+            debug_assert_eq!(out.len(), self.n_modes());
+            if !on[j] {
+                out.iter_mut().for_each(|o| *o = [0.0; 3]);
+                continue;
+            }
+            for ((o, &k), a) in out.iter_mut().zip(half_waves).zip(amplitudes) {
+                let sk = s[k as usize][j];
+                let [h, v, t] = [a[0] * sk, a[1] * sk, a[2] * sk];
+                *o = [h + h4 * t, t, v + e * t];
+            }
+        }
     }
 
     /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` in place (eq. 8).
@@ -472,6 +546,93 @@ mod tests {
         }
         assert!(!b.rail_shape_slopes(40.0, &mut out));
         assert_eq!(out, vec![[0.0; 3]; 3]);
+    }
+
+    /// [`ModalBridge::rail_shapes_lanes`] gives [`ModalBridge::rail_shapes`] bit for bit: sine
+    /// shapes of many half-waves (and none), nodal shapes, one to four lanes, positions on
+    /// and off the deck, one scratch shared by bridges of different sizes.
+    #[test]
+    fn rail_shapes_lanes_equal_rail_shapes_bit_for_bit() {
+        let sine = |half_waves: Vec<u32>| {
+            let n = half_waves.len();
+            let amplitudes = (0..n)
+                .map(|i| {
+                    let v = |c: f64| ((i as f64 + c) * 0.618_033_988_7).sin() * 0.37;
+                    [v(0.1), v(1.3), -v(2.9)]
+                })
+                .collect();
+            ModalBridge {
+                x_start_m: 12.5,
+                x_end_m: 812.5,
+                frequencies_hz: (1..=n).map(|i| i as f64).collect(),
+                damping: vec![0.01; n],
+                labels: vec![String::new(); n],
+                e_m: 2.05,
+                h4_m: 1.25,
+                shapes: Shapes::Sine {
+                    span_m: 800.0,
+                    half_waves,
+                    amplitudes,
+                },
+                steady_modal_force: Vec::new(),
+                buffeting: None,
+            }
+        };
+        let mut nodal = sine(vec![1, 2, 3]);
+        let x_m: Vec<f64> = (0..=40).map(|i| 12.5 + 20.0 * i as f64).collect();
+        let values = (0..x_m.len() * 3)
+            .map(|i| {
+                [
+                    (i as f64 * 0.3).sin(),
+                    (i as f64 * 0.7).cos(),
+                    0.01 * i as f64,
+                ]
+            })
+            .collect();
+        nodal.shapes = Shapes::Nodal {
+            x_m,
+            values,
+            order: 4,
+        };
+        let bridges = [
+            sine((0..120).map(|i| (i * 37 % 97 + 1) as u32).collect()),
+            sine(vec![3, 1, 2]),
+            sine(vec![0, 0]),
+            nodal,
+        ];
+        let xs = [
+            12.5,
+            100.123_456_789,
+            0.0,
+            812.5,
+            444.4,
+            1000.0,
+            812.500_000_001,
+            13.0,
+        ];
+        let mut scratch = Vec::new();
+        for b in &bridges {
+            let n = b.n_modes();
+            for lanes in 1..=SHAPE_LANES {
+                for start in 0..xs.len() - lanes {
+                    let x = &xs[start..start + lanes];
+                    let mut bufs = vec![vec![[f64::NAN; 3]; n]; lanes];
+                    let mut outs: Vec<&mut [[f64; 3]]> =
+                        bufs.iter_mut().map(|b| b.as_mut_slice()).collect();
+                    let mut on = [true; SHAPE_LANES];
+                    b.rail_shapes_lanes(x, &mut outs, &mut on, &mut scratch);
+                    for j in 0..lanes {
+                        let mut want = vec![[0.0; 3]; n];
+                        let want_on = b.rail_shapes(x[j], &mut want);
+                        assert_eq!(on[j], want_on, "x = {}", x[j]);
+                        let bits = |v: &[[f64; 3]]| -> Vec<u64> {
+                            v.iter().flatten().map(|f| f.to_bits()).collect()
+                        };
+                        assert_eq!(bits(&bufs[j]), bits(&want), "x = {}", x[j]);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

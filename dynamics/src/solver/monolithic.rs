@@ -36,7 +36,7 @@
 //! dense solve of the explicitly assembled matrices of eq. (14).
 
 use super::{rail_prescribed, VehicleState, WheelForce};
-use crate::bridge::ModalBridge;
+use crate::bridge::{ModalBridge, SHAPE_LANES};
 use crate::newmark::Newmark;
 use crate::sparse::{Csr, SparseCholesky};
 use crate::track::RailProfile;
@@ -196,10 +196,21 @@ impl Monolithic {
         for (w, ws) in self.wheelsets.iter().enumerate() {
             let x = self.train.x_at(ws.offset_m, t);
             self.x[w] = x;
-            self.on[w] = self
-                .bridge
-                .rail_shapes(x, &mut self.psi[w * nb..(w + 1) * nb]);
             self.presc[w] = rail_prescribed(&*self.track, &self.train, w, x, t);
+        }
+        let lanes = &mut self.work.lanes;
+        for ((xs, on), psi) in self
+            .x
+            .chunks(SHAPE_LANES)
+            .zip(self.on.chunks_mut(SHAPE_LANES))
+            .zip(self.psi.chunks_mut(SHAPE_LANES * nb))
+        {
+            let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
+            for (o, p) in outs.iter_mut().zip(psi.chunks_mut(nb)) {
+                *o = p;
+            }
+            self.bridge
+                .rail_shapes_lanes(xs, &mut outs[..xs.len()], on, lanes);
         }
     }
 
@@ -679,6 +690,8 @@ struct Work {
     vc: Vec<DVector<f64>>,
     bv: Vec<DVector<f64>>,
     z: Vec<DVector<f64>>,
+    /// Scratch of [`ModalBridge::rail_shapes_lanes`].
+    lanes: Vec<[f64; SHAPE_LANES]>,
 }
 
 impl Work {
@@ -717,6 +730,7 @@ impl Work {
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),
             z: per(&|m| 3 * m.wheelsets.len()),
+            lanes: Vec::new(),
         }
     }
 }

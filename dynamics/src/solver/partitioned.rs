@@ -14,7 +14,7 @@
 //! tolerance.
 
 use super::{add_hunting, VehicleState, WheelForce};
-use crate::bridge::ModalBridge;
+use crate::bridge::{ModalBridge, SHAPE_LANES};
 use crate::newmark::Newmark;
 use crate::sparse::{Csr, SparseCholesky};
 use crate::track::{rail_motion, RailProfile};
@@ -210,12 +210,11 @@ impl BridgeSide {
         let nb = self.omega.len();
         let mut fq = vec![0.0; nb];
         let mut c = self.cache.lock().expect("shape cache");
+        c.fill(&self.bridge, &*self.track, nb, inputs);
         for (w, wi) in inputs.iter().enumerate() {
             c.get(&self.bridge, &*self.track, nb, w, wi.x, |on, psi, _| {
                 if on {
-                    for (o, p) in fq.iter_mut().zip(psi) {
-                        *o += p[0] * wi.f[0] + p[1] * wi.f[1] + p[2] * wi.f[2];
-                    }
+                    crate::simd::project_force(&mut fq, psi, wi.f);
                 }
             });
         }
@@ -289,6 +288,7 @@ impl BridgeSide {
             .extend((s.q.iter().zip(&s.qd).zip(&s.qdd)).map(|((&q, &qd), &qdd)| [q, qd, qdd, 0.0]));
         let modal = &self.modal;
         let mut c = self.cache.lock().expect("shape cache");
+        c.fill(&self.bridge, &*self.track, nb, inputs);
         for (w, wi) in inputs.iter().enumerate() {
             let r = c.get(
                 &self.bridge,
@@ -763,6 +763,8 @@ struct ShapeCache {
     next: Vec<usize>,
     /// Deck shapes at the probe positions asked for (x bits, shapes).
     probes: Vec<(u64, Vec<[f64; 3]>)>,
+    /// Scratch of [`ModalBridge::rail_shapes_lanes`].
+    lanes: Vec<[f64; SHAPE_LANES]>,
 }
 
 impl ShapeCache {
@@ -781,6 +783,76 @@ impl ShapeCache {
         &self.probes[i].1
     }
 
+    /// Room for wheelset slots `0..n`.
+    fn reserve(&mut self, n: usize, nb: usize) {
+        if self.keys.len() < n {
+            self.keys.resize(n, [(f64::NAN.to_bits(), false); 2]);
+            self.next.resize(n, 0);
+            self.psi.resize(2 * n * nb, [0.0; 3]);
+            self.irregularity
+                .resize(n, [RailIrregularity::default(); 2]);
+        }
+    }
+
+    /// Makes the entries of every wheelset slot `w` at `inputs[w].x`, as [`Self::get`] would
+    /// one at a time (the same entries, values and replacements), the shapes of the misses
+    /// [`SHAPE_LANES`] at a time ([`ModalBridge::rail_shapes_lanes`]).
+    fn fill(
+        &mut self,
+        bridge: &ModalBridge,
+        track: &dyn RailProfile,
+        nb: usize,
+        inputs: &[WheelInput],
+    ) {
+        self.reserve(inputs.len(), nb);
+        let mut pending = [(0usize, 0.0f64); SHAPE_LANES];
+        let mut m = 0;
+        for (w, wi) in inputs.iter().enumerate() {
+            let bits = wi.x.to_bits();
+            if self.keys[w].iter().any(|k| k.0 == bits) {
+                continue;
+            }
+            let s = self.next[w];
+            self.next[w] = 1 - s;
+            self.keys[w][s] = (bits, false);
+            self.irregularity[w][s] = track.at(wi.x);
+            pending[m] = (2 * w + s, wi.x);
+            m += 1;
+            if m == SHAPE_LANES {
+                self.shapes_of(bridge, nb, &pending);
+                m = 0;
+            }
+        }
+        if m > 0 {
+            self.shapes_of(bridge, nb, &pending[..m]);
+        }
+    }
+
+    /// The shapes of entries `(2 w + slot, x)` (ascending entries) into `psi` and their
+    /// on-deck flags into `keys`.
+    fn shapes_of(&mut self, bridge: &ModalBridge, nb: usize, pending: &[(usize, f64)]) {
+        let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
+        let mut xs = [0.0; SHAPE_LANES];
+        let mut rest = &mut self.psi[..];
+        let mut base = 0;
+        for (j, &(entry, x)) in pending.iter().enumerate() {
+            let tail = std::mem::take(&mut rest)
+                .split_at_mut((entry - base) * nb)
+                .1;
+            let (this, tail) = tail.split_at_mut(nb);
+            outs[j] = this;
+            rest = tail;
+            base = entry + 1;
+            xs[j] = x;
+        }
+        let m = pending.len();
+        let mut on = [false; SHAPE_LANES];
+        bridge.rail_shapes_lanes(&xs[..m], &mut outs[..m], &mut on, &mut self.lanes);
+        for (&(entry, _), on) in pending.iter().zip(on) {
+            self.keys[entry / 2][entry % 2].1 = on;
+        }
+    }
+
     fn get<R>(
         &mut self,
         bridge: &ModalBridge,
@@ -790,13 +862,7 @@ impl ShapeCache {
         x: f64,
         f: impl FnOnce(bool, &[[f64; 3]], &RailIrregularity) -> R,
     ) -> R {
-        if self.keys.len() <= w {
-            self.keys.resize(w + 1, [(f64::NAN.to_bits(), false); 2]);
-            self.next.resize(w + 1, 0);
-            self.psi.resize(2 * (w + 1) * nb, [0.0; 3]);
-            self.irregularity
-                .resize(w + 1, [RailIrregularity::default(); 2]);
-        }
+        self.reserve(w + 1, nb);
         let bits = x.to_bits();
         let slot = match self.keys[w].iter().position(|k| k.0 == bits) {
             Some(s) => s,
