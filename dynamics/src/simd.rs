@@ -64,6 +64,40 @@ fn project_force_body(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
     }
 }
 
+/// [`rail_accumulate`] for two wheelsets at once, `acc[i]` with `psi[i]` (the same sums in
+/// the same order for each; the two chains of additions run side by side instead of one
+/// after the other).
+#[inline]
+pub fn rail_accumulate_pair(
+    acc: &mut [[[f64; 4]; 3]; 2],
+    psi: [&[[f64; 3]]; 2],
+    modal: &[[f64; 4]],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked just above).
+        return unsafe { rail_accumulate_pair_avx2(acc, psi, modal) };
+    }
+    rail_accumulate_pair_body(acc, psi, modal)
+}
+
+#[inline(always)]
+fn rail_accumulate_pair_body(
+    acc: &mut [[[f64; 4]; 3]; 2],
+    psi: [&[[f64; 3]]; 2],
+    modal: &[[f64; 4]],
+) {
+    let [a0, a1] = acc;
+    for ((p0, p1), m) in psi[0].iter().zip(psi[1]).zip(modal) {
+        for k in 0..3 {
+            for d in 0..4 {
+                a0[k][d] += p0[k] * m[d];
+                a1[k][d] += p1[k] * m[d];
+            }
+        }
+    }
+}
+
 #[inline(always)]
 fn axpy_body(y: &mut [f64], a: f64, x: &[f64]) {
     for (y, x) in y.iter_mut().zip(x) {
@@ -108,6 +142,16 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64]) {
 #[target_feature(enable = "avx2")]
 fn project_force_avx2(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
     project_force_body(y, psi, f)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn rail_accumulate_pair_avx2(
+    acc: &mut [[[f64; 4]; 3]; 2],
+    psi: [&[[f64; 3]]; 2],
+    modal: &[[f64; 4]],
+) {
+    rail_accumulate_pair_body(acc, psi, modal)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -176,6 +220,18 @@ mod tests {
                     .all(|(a, b)| a.to_bits() == b.to_bits()),
                 "rail_accumulate, n = {n}"
             );
+            // a pair against one call each (the second wheelset's shapes reversed)
+            let psi1: Vec<[f64; 3]> = psi.iter().rev().copied().collect();
+            let mut single = [[[0.1, 0.2, 0.3, 0.0], [1.0, -2.0, 3.0, 0.0], [0.0; 4]]; 2];
+            single[1][2] = [7.0, -0.5, 1e-3, 0.0];
+            let mut pair = single;
+            rail_accumulate_body(&mut single[0], &psi, &modal);
+            rail_accumulate_body(&mut single[1], &psi1, &modal);
+            rail_accumulate_pair(&mut pair, [&psi, &psi1], &modal);
+            let bits = |a: &[[[f64; 4]; 3]; 2]| -> Vec<u64> {
+                a.iter().flatten().flatten().map(|v| v.to_bits()).collect()
+            };
+            assert_eq!(bits(&single), bits(&pair), "rail_accumulate_pair, n = {n}");
         }
     }
 }

@@ -289,36 +289,51 @@ impl BridgeSide {
         let modal = &self.modal;
         let mut c = self.cache.lock().expect("shape cache");
         c.fill(&self.bridge, &*self.track, nb, inputs);
-        for (w, wi) in inputs.iter().enumerate() {
-            let r = c.get(
-                &self.bridge,
-                &*self.track,
-                nb,
-                w,
-                wi.x,
-                |on, psi, irregularity| {
-                    let r = rail_motion(irregularity, wi.vx);
-                    if !on {
-                        return r;
-                    }
-                    // acc[k][d]: component k of the d-th derivative
-                    let mut acc = [[0.0; 4]; 3];
-                    for (k, a) in acc.iter_mut().enumerate() {
-                        for d in 0..3 {
-                            a[d] = r[d][k];
+        // acc[k][d]: component k of the d-th derivative, starting from the irregularity
+        let start = |r: &[Vector3<f64>; 3]| {
+            let mut acc = [[0.0; 4]; 3];
+            for (k, a) in acc.iter_mut().enumerate() {
+                for d in 0..3 {
+                    a[d] = r[d][k];
+                }
+            }
+            acc
+        };
+        let finish = |r: &mut [Vector3<f64>; 3], acc: &[[f64; 4]; 3]| {
+            for (k, a) in acc.iter().enumerate() {
+                for d in 0..3 {
+                    r[d][k] = a[d];
+                }
+            }
+        };
+        // two wheelsets at a time: their sums are independent
+        for (p, pair) in inputs.chunks(2).enumerate() {
+            let mut r = [[Vector3::zeros(); 3]; 2];
+            let mut acc = [[[0.0; 4]; 3]; 2];
+            let mut on = [false; 2];
+            let mut psi: [&[[f64; 3]]; 2] = [&[], &[]];
+            for (i, wi) in pair.iter().enumerate() {
+                let (o, shapes, irregularity) = c.entry(nb, 2 * p + i, wi.x);
+                r[i] = rail_motion(irregularity, wi.vx);
+                acc[i] = start(&r[i]);
+                (on[i], psi[i]) = (o, shapes);
+            }
+            match (on, pair.len()) {
+                ([true, true], 2) => crate::simd::rail_accumulate_pair(&mut acc, psi, modal),
+                _ => {
+                    for i in 0..pair.len() {
+                        if on[i] {
+                            crate::simd::rail_accumulate(&mut acc[i], psi[i], modal);
                         }
                     }
-                    crate::simd::rail_accumulate(&mut acc, psi, modal);
-                    let mut r = r;
-                    for (k, a) in acc.iter().enumerate() {
-                        for d in 0..3 {
-                            r[d][k] = a[d];
-                        }
-                    }
-                    r
-                },
-            );
-            f(w, &r);
+                }
+            }
+            for i in 0..pair.len() {
+                if on[i] {
+                    finish(&mut r[i], &acc[i]);
+                }
+                f(2 * p + i, &r[i]);
+            }
         }
     }
 
@@ -851,6 +866,22 @@ impl ShapeCache {
         for (&(entry, _), on) in pending.iter().zip(on) {
             self.keys[entry / 2][entry % 2].1 = on;
         }
+    }
+
+    /// The entry of wheelset slot `w` at `x` (made by [`Self::fill`] or [`Self::get`]; `nb`
+    /// modes): on deck, rail shapes, irregularity.
+    fn entry(&self, nb: usize, w: usize, x: f64) -> (bool, &[[f64; 3]], &RailIrregularity) {
+        let bits = x.to_bits();
+        let slot = self.keys[w]
+            .iter()
+            .position(|k| k.0 == bits)
+            .expect("the shape cache was filled for these positions");
+        let range = (2 * w + slot) * nb..(2 * w + slot + 1) * nb;
+        (
+            self.keys[w][slot].1,
+            &self.psi[range],
+            &self.irregularity[w][slot],
+        )
     }
 
     fn get<R>(
