@@ -198,33 +198,23 @@ impl ModalBridge {
             } => {
                 let theta = std::f64::consts::PI * (x - self.x_start_m) / span_m;
                 let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
-                // sin(kθ) by the Chebyshev recurrence sin((k+1)θ) = 2 cos θ sin(kθ) − sin((k−1)θ).
                 // (a short array for the common few half-waves: zeroing costs by its length)
                 let (mut few, mut many, mut owned);
-                let s: &mut [f64] = if kmax < 32 {
-                    few = [0.0f64; 32];
+                let s: &mut [[f64; 1]] = if kmax < 32 {
+                    few = [[0.0f64]; 32];
                     &mut few[..=kmax]
                 } else if kmax < 256 {
-                    many = [0.0f64; 256];
+                    many = [[0.0f64]; 256];
                     &mut many[..=kmax]
                 } else {
-                    owned = vec![0.0; kmax + 1];
+                    owned = vec![[0.0]; kmax + 1];
                     &mut owned[..]
                 };
                 if kmax >= 1 {
-                    s[1] = theta.sin();
-                    let c2 = 2.0 * theta.cos();
-                    // the last two values in registers: the chain is one multiply and one
-                    // subtraction per k, not a store and reload of s[k − 1] as well
-                    let (mut prev, mut cur) = (s[0], s[1]);
-                    for sk in &mut s[2..] {
-                        let next = c2 * cur - prev;
-                        *sk = next;
-                        (prev, cur) = (cur, next);
-                    }
+                    chebyshev_sines([theta.sin()], [2.0 * theta.cos()], s);
                 }
                 for (i, o) in out.iter_mut().enumerate() {
-                    let sk = s[half_waves[i] as usize];
+                    let [sk] = s[half_waves[i] as usize];
                     let a = amplitudes[i];
                     *o = [a[0] * sk, a[1] * sk, a[2] * sk];
                 }
@@ -278,32 +268,18 @@ impl ModalBridge {
         scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
         let s = &mut scratch[..=kmax];
         s[0] = [0.0; SHAPE_LANES];
-        if kmax >= 1 {
-            let (mut c2, mut cur) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
-            for j in 0..m {
-                on[j] = self.on_deck(xs[j]);
-                if on[j] {
-                    let theta = std::f64::consts::PI * (xs[j] - self.x_start_m) / span_m;
-                    cur[j] = theta.sin();
-                    c2[j] = 2.0 * theta.cos();
-                }
-            }
-            s[1] = cur;
-            let mut prev = s[0];
-            for sk in &mut s[2..] {
-                let mut next = [0.0; SHAPE_LANES];
-                for j in 0..SHAPE_LANES {
-                    next[j] = c2[j] * cur[j] - prev[j];
-                }
-                *sk = next;
-                (prev, cur) = (cur, next);
-            }
-        } else {
-            for j in 0..m {
-                on[j] = self.on_deck(xs[j]);
+        let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+        for j in 0..m {
+            on[j] = self.on_deck(xs[j]);
+            if on[j] && kmax >= 1 {
+                let theta = std::f64::consts::PI * (xs[j] - self.x_start_m) / span_m;
+                sin1[j] = theta.sin();
+                c2[j] = 2.0 * theta.cos();
             }
         }
-        let (h4, e) = (self.h4_m, self.e_m);
+        if kmax >= 1 {
+            chebyshev_sines(sin1, c2, s);
+        }
         for j in 0..m {
             let out = &mut *outs[j];
             debug_assert_eq!(out.len(), self.n_modes());
@@ -313,17 +289,21 @@ impl ModalBridge {
             }
             for ((o, &k), a) in out.iter_mut().zip(half_waves).zip(amplitudes) {
                 let sk = s[k as usize][j];
-                let [h, v, t] = [a[0] * sk, a[1] * sk, a[2] * sk];
-                *o = [h + h4 * t, t, v + e * t];
+                *o = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
             }
         }
     }
 
-    /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` in place (eq. 8).
+    /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` (eq. 8).
+    #[inline]
+    fn rail_of(&self, [h, v, t]: [f64; 3]) -> [f64; 3] {
+        [h + self.h4_m * t, t, v + self.e_m * t]
+    }
+
+    /// [`Self::rail_of`] in place.
     fn deck_to_rail(&self, out: &mut [[f64; 3]]) {
         for o in out.iter_mut() {
-            let [h, v, t] = *o;
-            *o = [h + self.h4_m * t, t, v + self.e_m * t];
+            *o = self.rail_of(*o);
         }
     }
 
@@ -379,6 +359,26 @@ impl ModalBridge {
             self.deck_to_rail(out);
         }
         on
+    }
+}
+
+/// `s[k] = sin(kθ)` of every lane for `k = 0 … s.len() − 1` (`s.len() ≥ 2`), by the
+/// Chebyshev recurrence `sin((k+1)θ) = 2 cos θ sin(kθ) − sin((k−1)θ)` from `sin θ` and
+/// `2 cos θ` of each lane. Each lane is a chain of dependent multiplies and subtractions, so
+/// several lanes run side by side; the last two values stay in registers (the chain is one
+/// multiply and one subtraction per k, not a store and reload of `s[k − 1]` as well).
+#[inline]
+fn chebyshev_sines<const L: usize>(sin1: [f64; L], c2: [f64; L], s: &mut [[f64; L]]) {
+    s[0] = [0.0; L];
+    s[1] = sin1;
+    let (mut prev, mut cur) = (s[0], s[1]);
+    for sk in &mut s[2..] {
+        let mut next = [0.0; L];
+        for j in 0..L {
+            next[j] = c2[j] * cur[j] - prev[j];
+        }
+        *sk = next;
+        (prev, cur) = (cur, next);
     }
 }
 

@@ -212,11 +212,9 @@ impl BridgeSide {
         let mut c = self.cache.lock().expect("shape cache");
         c.fill(&self.bridge, &*self.track, nb, inputs);
         for (w, wi) in inputs.iter().enumerate() {
-            c.get(&self.bridge, &*self.track, nb, w, wi.x, |on, psi, _| {
-                if on {
-                    crate::simd::project_force(&mut fq, psi, wi.f);
-                }
-            });
+            if let (true, psi, _) = c.entry(nb, w, wi.x) {
+                crate::simd::project_force(&mut fq, psi, wi.f);
+            }
         }
         fq
     }
@@ -823,24 +821,33 @@ impl ShapeCache {
         let mut pending = [(0usize, 0.0f64); SHAPE_LANES];
         let mut m = 0;
         for (w, wi) in inputs.iter().enumerate() {
-            let bits = wi.x.to_bits();
-            if self.keys[w].iter().any(|k| k.0 == bits) {
-                continue;
-            }
-            let s = self.next[w];
-            self.next[w] = 1 - s;
-            self.keys[w][s] = (bits, false);
-            self.irregularity[w][s] = track.at(wi.x);
-            pending[m] = (2 * w + s, wi.x);
-            m += 1;
-            if m == SHAPE_LANES {
-                self.shapes_of(bridge, nb, &pending);
-                m = 0;
+            if let Some(p) = self.claim(track, w, wi.x) {
+                pending[m] = p;
+                m += 1;
+                if m == SHAPE_LANES {
+                    self.shapes_of(bridge, nb, &pending);
+                    m = 0;
+                }
             }
         }
         if m > 0 {
             self.shapes_of(bridge, nb, &pending[..m]);
         }
+    }
+
+    /// Unless slot `w` has an entry at `x`: takes its older entry for `x` with the
+    /// irregularity there, and returns `(2 w + slot, x)`, whose shapes are still to be made
+    /// ([`Self::shapes_of`]).
+    fn claim(&mut self, track: &dyn RailProfile, w: usize, x: f64) -> Option<(usize, f64)> {
+        let bits = x.to_bits();
+        if self.keys[w].iter().any(|k| k.0 == bits) {
+            return None;
+        }
+        let s = self.next[w];
+        self.next[w] = 1 - s;
+        self.keys[w][s] = (bits, false);
+        self.irregularity[w][s] = track.at(x);
+        Some((2 * w + s, x))
     }
 
     /// The shapes of entries `(2 w + slot, x)` (ascending entries) into `psi` and their
@@ -868,7 +875,7 @@ impl ShapeCache {
         }
     }
 
-    /// The entry of wheelset slot `w` at `x` (made by [`Self::fill`] or [`Self::get`]; `nb`
+    /// The entry of wheelset slot `w` at `x` (made by [`Self::fill`] or [`Self::claim`]; `nb`
     /// modes): on deck, rail shapes, irregularity.
     fn entry(&self, nb: usize, w: usize, x: f64) -> (bool, &[[f64; 3]], &RailIrregularity) {
         let bits = x.to_bits();
@@ -894,24 +901,10 @@ impl ShapeCache {
         f: impl FnOnce(bool, &[[f64; 3]], &RailIrregularity) -> R,
     ) -> R {
         self.reserve(w + 1, nb);
-        let bits = x.to_bits();
-        let slot = match self.keys[w].iter().position(|k| k.0 == bits) {
-            Some(s) => s,
-            None => {
-                let s = self.next[w];
-                self.next[w] = 1 - s;
-                let range = (2 * w + s) * nb..(2 * w + s + 1) * nb;
-                let on = bridge.rail_shapes(x, &mut self.psi[range]);
-                self.keys[w][s] = (bits, on);
-                self.irregularity[w][s] = track.at(x);
-                s
-            }
-        };
-        let range = (2 * w + slot) * nb..(2 * w + slot + 1) * nb;
-        f(
-            self.keys[w][slot].1,
-            &self.psi[range],
-            &self.irregularity[w][slot],
-        )
+        if let Some(p) = self.claim(track, w, x) {
+            self.shapes_of(bridge, nb, &[p]);
+        }
+        let (on, psi, irregularity) = self.entry(nb, w, x);
+        f(on, psi, irregularity)
     }
 }
