@@ -31,55 +31,15 @@
 //! dense reduction. Returns `None` (the caller falls back to the dense solution) when `K` is not
 //! positive definite or the basis would exhaust the space.
 
+use crate::sparse::SparseMatrix;
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
-use faer::sparse::{SparseColMat, Triplet};
 use faer::{Accum, Mat, MatRef, Par, Side};
 
 /// Block size.
 const BLOCK: usize = 8;
 /// Accepted shift-invert residual of a pair (see the module documentation).
 const TOLERANCE: f64 = 1e-12;
-
-/// A symmetric matrix in compressed columns (both triangles).
-struct Csc {
-    ptr: Vec<usize>,
-    row: Vec<usize>,
-    val: Vec<f64>,
-}
-
-impl Csc {
-    fn of(a: &Mat<f64>) -> Csc {
-        let mut c = Csc {
-            ptr: vec![0],
-            row: Vec::new(),
-            val: Vec::new(),
-        };
-        for j in 0..a.ncols() {
-            for i in 0..a.nrows() {
-                let v = a[(i, j)];
-                if v != 0.0 {
-                    c.row.push(i);
-                    c.val.push(v);
-                }
-            }
-            c.ptr.push(c.row.len());
-        }
-        c
-    }
-
-    /// `y = A x`.
-    fn mul(&self, x: &[f64], y: &mut [f64]) {
-        y.iter_mut().for_each(|y| *y = 0.0);
-        for (j, &xj) in x.iter().enumerate() {
-            if xj != 0.0 {
-                for e in self.ptr[j]..self.ptr[j + 1] {
-                    y[self.row[e]] += self.val[e] * xj;
-                }
-            }
-        }
-    }
-}
 
 /// `aᵀ b`, summed in four interleaved partial sums (element `i` into sum `i mod 4`), then
 /// `(s₀ + s₁) + (s₂ + s₃)`: a fixed order, independent of the machine, that lets the
@@ -134,7 +94,12 @@ impl Basis {
     /// appended before it, twice, and normalised. A column of which less than 1e-8 of its
     /// M-norm is left (nothing independent) is replaced by `fresh()`, orthogonalised in
     /// the same way on its own.
-    fn append_block(&mut self, mut block: Mat<f64>, m: &Csc, mut fresh: impl FnMut() -> Vec<f64>) {
+    fn append_block(
+        &mut self,
+        mut block: Mat<f64>,
+        m: &SparseMatrix,
+        mut fresh: impl FnMut() -> Vec<f64>,
+    ) {
         let n = self.n;
         let mut mw = vec![0.0; n];
         let norms0: Vec<f64> = (0..block.ncols())
@@ -214,7 +179,7 @@ impl Basis {
     /// M-orthogonalises `w` (M-norm `norm0` before any projection) against the basis columns
     /// from `first` on (twice) and appends it normalised; false when nothing independent is
     /// left of it.
-    fn append_from(&mut self, mut w: Vec<f64>, norm0: f64, first: usize, m: &Csc) -> bool {
+    fn append_from(&mut self, mut w: Vec<f64>, norm0: f64, first: usize, m: &SparseMatrix) -> bool {
         let n = self.n;
         if !(norm0 > 0.0 && norm0.is_finite()) {
             return false;
@@ -260,25 +225,16 @@ impl Random {
 
 /// The lowest `nev` eigenpairs `(ω², φ)` of `K φ = ω² M φ` (ascending, `φᵀ M φ = 1`), or None
 /// (see the module documentation).
-pub(crate) fn lowest(k: &Mat<f64>, m: &Mat<f64>, nev: usize) -> Option<(Vec<f64>, Mat<f64>)> {
+pub(crate) fn lowest(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    nev: usize,
+) -> Option<(Vec<f64>, Mat<f64>)> {
     let n = k.nrows();
     if nev == 0 || 3 * nev + 2 * BLOCK > n {
         return None;
     }
-    let kc = Csc::of(k);
-    let mc = Csc::of(m);
-    let lower: Vec<Triplet<usize, usize, f64>> = (0..n)
-        .flat_map(|j| {
-            let kc = &kc;
-            (kc.ptr[j]..kc.ptr[j + 1])
-                .filter(move |&e| kc.row[e] >= j)
-                .map(move |e| Triplet::new(kc.row[e], j, kc.val[e]))
-        })
-        .collect();
-    let llt = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &lower)
-        .ok()?
-        .sp_cholesky(Side::Lower)
-        .ok()?;
+    let llt = k.lower()?.sp_cholesky(Side::Lower).ok()?;
     let solve = |cols: MatRef<'_, f64>| -> Mat<f64> {
         let mut x = cols.to_owned();
         llt.solve_in_place(x.as_mut());
@@ -295,13 +251,13 @@ pub(crate) fn lowest(k: &Mat<f64>, m: &Mat<f64>, nev: usize) -> Option<(Vec<f64>
     let mut next_check = 2 * nev + BLOCK;
     loop {
         let first = basis.len();
-        basis.append_block(block, &mc, || random.vector(n));
+        basis.append_block(block, m, || random.vector(n));
         let size = basis.len();
         if size >= n / 2 || size == first {
             return None;
         }
         if size >= next_check {
-            if let Some(pairs) = ritz(&basis, &mc, &solve, nev) {
+            if let Some(pairs) = ritz(&basis, m, &solve, nev) {
                 return Some(pairs);
             }
             next_check = size + BLOCK.max(size / 4);
@@ -317,7 +273,7 @@ pub(crate) fn lowest(k: &Mat<f64>, m: &Mat<f64>, nev: usize) -> Option<(Vec<f64>
 /// if all meet the tolerance.
 fn ritz(
     basis: &Basis,
-    mc: &Csc,
+    mc: &SparseMatrix,
     solve: &dyn Fn(MatRef<'_, f64>) -> Mat<f64>,
     nev: usize,
 ) -> Option<(Vec<f64>, Mat<f64>)> {

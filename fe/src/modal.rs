@@ -220,7 +220,7 @@ impl FeModel {
             let (el, ev, et) = (e_of(&lat, m), e_of(&ver, m), e_of(&tor, jm));
             let ec: f64 = cable_dofs
                 .iter()
-                .map(|&i| sys.m[(i, i)] * phi[i] * phi[i])
+                .map(|&i| sys.m.get(i, i) * phi[i] * phi[i])
                 .sum();
             let energy = EnergyShares {
                 deck_lateral: el,

@@ -10,6 +10,7 @@ use crate::elements::{
     beam_stiffness_local, local_axes, norm, rotate12, scale, skew, sub, M3, V3,
 };
 use crate::error::FeError;
+use crate::sparse::SparseMatrix;
 use faer::linalg::solvers::Solve;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
@@ -384,18 +385,20 @@ impl Structure {
                 map[6 * node + d] = Some(idx);
             }
         }
-        let mut k = Mat::<f64>::zeros(n, n);
-        let mut m = Mat::<f64>::zeros(n, n);
-        let scatter =
-            |target: &mut Mat<f64>, dofs: &[Option<usize>], e: &dyn Fn(usize, usize) -> f64| {
-                for (a, da) in dofs.iter().enumerate() {
-                    let Some(ga) = *da else { continue };
-                    for (b, db) in dofs.iter().enumerate() {
-                        let Some(gb) = *db else { continue };
-                        target[(ga, gb)] += e(a, b);
-                    }
+        // Triplets in the order a dense `+=` assembly would add them (see `crate::sparse`).
+        let mut k: Vec<(usize, usize, f64)> = Vec::new();
+        let mut m: Vec<(usize, usize, f64)> = Vec::new();
+        let scatter = |target: &mut Vec<(usize, usize, f64)>,
+                       dofs: &[Option<usize>],
+                       e: &dyn Fn(usize, usize) -> f64| {
+            for (a, da) in dofs.iter().enumerate() {
+                let Some(ga) = *da else { continue };
+                for (b, db) in dofs.iter().enumerate() {
+                    let Some(gb) = *db else { continue };
+                    target.push((ga, gb, e(a, b)));
                 }
-            };
+            }
+        };
         for bm in &self.beams {
             let s = &bm.section;
             let mut kl =
@@ -489,7 +492,11 @@ impl Structure {
             }
             scatter(&mut m, &d, &|a, b| me[a][b]);
         }
-        Ok(System { k, m, map })
+        Ok(System {
+            k: SparseMatrix::from_triplets(n, &k),
+            m: SparseMatrix::from_triplets(n, &m),
+            map,
+        })
     }
 
     /// `[I | −[r]×]` (3×6) for frame nodes, `I` (3×3) for point nodes, with the DOF indices.
@@ -528,10 +535,10 @@ impl Structure {
 /// Assembled stiffness and mass matrices over the free DOFs.
 #[derive(Debug, Clone)]
 pub struct System {
-    /// Tangent stiffness K = K_E + K_G at the reference state, N/m, N, N·m.
-    pub k: Mat<f64>,
-    /// Mass matrix M, kg, kg·m, kg·m².
-    pub m: Mat<f64>,
+    /// Tangent stiffness K = K_E + K_G at the reference state, N/m, N, N·m (sparse).
+    pub k: SparseMatrix,
+    /// Mass matrix M, kg, kg·m, kg·m² (sparse).
+    pub m: SparseMatrix,
     map: Vec<Option<usize>>,
 }
 
@@ -592,13 +599,14 @@ impl System {
         let par = faer::get_global_parallelism();
         let llt = self
             .m
+            .to_dense()
             .llt(Side::Lower)
             .map_err(|e| FeError::NotPositiveDefinite {
                 matrix: "mass matrix",
                 hint: format!("{e:?}: a free DOF without mass"),
             })?;
         let l = llt.L();
-        let mut a = self.k.clone();
+        let mut a = self.k.to_dense();
         solve_lower_triangular_in_place(l, a.as_mut(), par);
         let mut b = a.transpose().to_owned();
         drop(a);
@@ -622,15 +630,19 @@ impl System {
         Ok(EigenPairs { omega2, vectors })
     }
 
-    /// Cholesky factor of K for repeated static solves.
+    /// Sparse Cholesky factor of K (fill-reducing ordering) for repeated static solves.
     pub fn factor_stiffness(&self) -> Result<StiffnessFactor, FeError> {
-        let llt = self
+        let not_pd = |hint: String| FeError::NotPositiveDefinite {
+            matrix: "stiffness matrix",
+            hint,
+        };
+        let lower = self
             .k
-            .llt(Side::Lower)
-            .map_err(|e| FeError::NotPositiveDefinite {
-                matrix: "stiffness matrix",
-                hint: format!("{e:?}: the structure is a mechanism or unstable"),
-            })?;
+            .lower()
+            .ok_or_else(|| not_pd("its lower triangle could not be compressed".into()))?;
+        let llt = lower
+            .sp_cholesky(Side::Lower)
+            .map_err(|e| not_pd(format!("{e:?}: the structure is a mechanism or unstable")))?;
         Ok(StiffnessFactor { llt })
     }
 }
@@ -656,7 +668,7 @@ fn normalise_signs(vectors: &mut Mat<f64>) {
 /// A factorised stiffness matrix.
 #[derive(Debug)]
 pub struct StiffnessFactor {
-    llt: faer::linalg::solvers::Llt<f64>,
+    llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
 }
 
 impl StiffnessFactor {
