@@ -30,8 +30,8 @@
 //! cost per step is `O(n_wheelsets · N_b²)` for the reduced matrix plus one `N_b × N_b`
 //! Cholesky solve — independent of how many vehicle DOFs there are beyond the constant
 //! per-vehicle back-substitutions. The reduced system is solved by conjugate gradients
-//! preconditioned by its own factorised matrix of an earlier step (renewed as the wheelsets
-//! move on), to round-off; the vehicle blocks are multiplied and solved in sparse rows
+//! preconditioned by the inverse of its own matrix at an earlier step (renewed as the
+//! wheelsets move on), to round-off; the vehicle blocks are multiplied and solved in sparse rows
 //! ([`crate::sparse`]). The tests check that this gives the same solution as a
 //! dense solve of the explicitly assembled matrices of eq. (14).
 
@@ -42,7 +42,7 @@ use crate::sparse::{Csr, SparseCholesky};
 use crate::track::RailProfile;
 use crate::train::{Train, WheelsetRef};
 use crate::vehicle::LinearVehicle;
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3};
 use std::sync::Arc;
 
 struct VehicleCache {
@@ -53,9 +53,7 @@ struct VehicleCache {
     c: Csr,
     kvw: Vec<Csr>,
     cvw: Vec<Csr>,
-    /// S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w).
-    s: DMatrix<f64>,
-    /// The non-zero entries of S by row (empty when S = 0).
+    /// The non-zero entries of S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w) by row (empty when S = 0).
     s_rows: Vec<Vec<(usize, f64)>>,
     /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
     h: DMatrix<f64>,
@@ -316,7 +314,7 @@ impl Monolithic {
                 let on = self.on[ws];
                 let psi = &self.psi[ws * nb..(ws + 1) * nb];
                 let (pv, pm) = if on {
-                    (psi_mul(psi, w.qc.as_slice()), psi_mul(psi, w.qm.as_slice()))
+                    psi_mul2(psi, w.qc.as_slice(), w.qm.as_slice())
                 } else {
                     (Vector3::zeros(), Vector3::zeros())
                 };
@@ -437,9 +435,9 @@ impl Monolithic {
 
     /// Preconditioned conjugate gradients on the reduced bridge system, to round-off.
     ///
-    /// Two preconditioners, chosen once by the sizes ([`Costs`]): where a solve with an
-    /// `N_b × N_b` factor is cheap against an application of `A` (few modes under many
-    /// wheelsets), the factorised reduced matrix of an earlier step, `A_k = D̂ + Σ Uᵀ S U` at
+    /// Two preconditioners, chosen once by the sizes ([`Costs`]): where a product with an
+    /// `N_b × N_b` matrix is cheap against an application of `A` (few modes under many
+    /// wheelsets), the inverse of the reduced matrix of an earlier step, `A_k = D̂ + Σ Uᵀ S U` at
     /// the wheelset positions of step k (the matrix changes only as the wheelsets move, so a
     /// few iterations suffice), started from `A_k⁻¹ b` and re-assembled when the iterations
     /// beyond the fewest since its assembly have cost as much as an assembly; otherwise `D̂`,
@@ -450,11 +448,8 @@ impl Monolithic {
         let nb = w.bq.len();
         let lagged = w.costs.lagged();
         if lagged && w.pre.is_none() {
-            w.pre = Some(
-                self.assemble_reduced(w)
-                    .cholesky()
-                    .expect("reduced bridge matrix is positive definite"),
-            );
+            // None (not positive definite) leaves the step to the direct solver
+            w.pre = Some(spd_inverse(self.assemble_reduced(w))?);
             w.pre_fewest = usize::MAX;
             w.pre_extra = 0;
         }
@@ -468,14 +463,18 @@ impl Monolithic {
             cg_z: z,
             cg_p: p,
             cg_ap: ap,
+            cg_t: tmp,
             ux,
             sx,
             ..
         } = w;
-        let factor = pre.as_ref().filter(|_| lagged);
+        let inverse = pre.as_ref().filter(|_| lagged);
         let dhat: &DVector<f64> = dhat;
-        let precondition = |v: &mut DVector<f64>| match factor {
-            Some(f) => f.solve_mut(v),
+        let mut precondition = |v: &mut DVector<f64>| match inverse {
+            Some(a) => {
+                dense_mul(a, v.as_slice(), tmp.as_mut_slice());
+                v.copy_from(tmp);
+            }
             None => v.component_div_assign(dhat),
         };
         x.copy_from(bq);
@@ -543,28 +542,53 @@ impl Monolithic {
             .solve(&w.bq)
     }
 
-    /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions.
+    /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions: per vehicle `U` gathered into
+    /// rows, `S U` by the sparse rows of `S`, then `A += Σ_r U_rᵀ (S U)_r`, one rank-one
+    /// update per rail DOF, each column a contiguous multiply-add (off-deck wheelsets have
+    /// zero shapes and are left out).
     fn assemble_reduced(&self, w: &Work) -> DMatrix<f64> {
         let nb = w.bq.len();
-        let mut a = DMatrix::<f64>::from_diagonal(&w.dhat);
+        let mut a = vec![0.0; nb * nb];
+        for n in 0..nb {
+            a[n * nb + n] = w.dhat[n];
+        }
+        let (mut u, mut su) = (Vec::new(), Vec::new());
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let f0 = self.first_ws[i];
             let nwi = tv.model.wheelsets.len();
-            let mut u = DMatrix::<f64>::zeros(3 * nwi, nb);
-            for l in 0..nwi {
-                for (n, p) in self.psi[(f0 + l) * nb..(f0 + l + 1) * nb]
-                    .iter()
-                    .enumerate()
-                {
-                    u[(3 * l, n)] = p[0];
-                    u[(3 * l + 1, n)] = p[1];
-                    u[(3 * l + 2, n)] = p[2];
+            let rows = &self.cache[i].s_rows;
+            if rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+                continue;
+            }
+            // u[r nb + n] = U[r, n], rail DOF r = 3 l + k of wheelset l
+            u.clear();
+            u.resize(3 * nwi * nb, 0.0);
+            for l in (0..nwi).filter(|&l| self.on[f0 + l]) {
+                let psi = &self.psi[(f0 + l) * nb..(f0 + l + 1) * nb];
+                for (n, p) in psi.iter().enumerate() {
+                    for k in 0..3 {
+                        u[(3 * l + k) * nb + n] = p[k];
+                    }
                 }
             }
-            let su = &self.cache[i].s * &u;
-            a += u.tr_mul(&su);
+            su.clear();
+            su.resize(3 * nwi * nb, 0.0);
+            for (r, row) in rows.iter().enumerate() {
+                let out = &mut su[r * nb..(r + 1) * nb];
+                for &(c, v) in row {
+                    crate::simd::axpy(out, v, &u[c * nb..(c + 1) * nb]);
+                }
+            }
+            for r in 0..3 * nwi {
+                let (ur, sur) = (&u[r * nb..(r + 1) * nb], &su[r * nb..(r + 1) * nb]);
+                for (col, &s) in a.chunks_exact_mut(nb).zip(sur) {
+                    if s != 0.0 {
+                        crate::simd::axpy(col, s, ur);
+                    }
+                }
+            }
         }
-        a
+        DMatrix::from_vec(nb, nb, a)
     }
 }
 
@@ -593,16 +617,17 @@ const MAX_CG_ITERATIONS: usize = 12;
 struct Costs {
     /// One application of `A`: `Ψ x`, `S`, `Ψᵀ` for every wheelset.
     apply: f64,
-    /// One solve with an `N_b × N_b` Cholesky factor.
+    /// One product with the `N_b × N_b` inverse of the preconditioner (counted as the two
+    /// triangular solves with its factor, `2 N_b²`).
     factor_solve: f64,
-    /// Assembling and factorising `A`.
+    /// Assembling, factorising and inverting `A`.
     assembly: f64,
 }
 
 impl Costs {
     fn of(nb: usize, train: &Train) -> Costs {
         let nb = nb as f64;
-        let (mut apply, mut assembly) = (0.0, nb * nb * nb / 3.0);
+        let (mut apply, mut assembly) = (0.0, 4.0 * nb * nb * nb / 3.0);
         for tv in &train.vehicles {
             let r = 3.0 * tv.model.wheelsets.len() as f64;
             apply += 2.0 * r * nb + r * r;
@@ -615,10 +640,11 @@ impl Costs {
         }
     }
 
-    /// Whether the factor of an earlier step is the preconditioner: when its solve costs at
-    /// most a quarter of an application of `A` (20 modes under 32 wheelsets: 2.7 iterations
-    /// per step and an assembly every 8 steps on the bench case, against 5.3 iterations with
-    /// `D̂`; not 200 modes, whose factor costs as much as the application).
+    /// Whether the inverse of an earlier step's matrix is the preconditioner: when a product
+    /// with it costs at most a quarter of an application of `A` (measured: 20 modes under 32
+    /// wheelsets, the bench case, 2.44 iterations per solve and an assembly every 6.2 steps;
+    /// the default Tsing Ma case 1.50 and 9.3; not 200 modes under 128 wheelsets, whose
+    /// matrix costs as much as the application, and where `D̂` was measured faster).
     fn lagged(&self) -> bool {
         4.0 * self.factor_solve <= self.apply
     }
@@ -642,6 +668,18 @@ fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     u
 }
 
+/// `Ψ a`, `Ψ b` in one pass over Ψ (each sum in the order of [`psi_mul`]).
+fn psi_mul2(psi: &[[f64; 3]], a: &[f64], b: &[f64]) -> (Vector3<f64>, Vector3<f64>) {
+    let (mut u, mut v) = (Vector3::zeros(), Vector3::zeros());
+    for ((p, an), bn) in psi.iter().zip(a).zip(b) {
+        for k in 0..3 {
+            u[k] += p[k] * an;
+            v[k] += p[k] * bn;
+        }
+    }
+    (u, v)
+}
+
 /// `Ψ a`, `Ψ b`, `Ψ c` in one pass over Ψ.
 fn psi_mul3(psi: &[[f64; 3]], a: &[f64], b: &[f64], c: &[f64]) -> [Vector3<f64>; 3] {
     let mut r = [Vector3::zeros(); 3];
@@ -656,10 +694,47 @@ fn psi_mul3(psi: &[[f64; 3]], a: &[f64], b: &[f64], c: &[f64]) -> [Vector3<f64>;
     r
 }
 
-fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut [f64]) {
-    for (o, p) in out.iter_mut().zip(psi) {
-        *o += p[0] * f.x + p[1] * f.y + p[2] * f.z;
+/// The inverse of a symmetric positive definite matrix by Gauss–Jordan sweeps in place (the
+/// pivots of such a matrix are positive, so none is exchanged): for each k, row k is divided
+/// by the pivot `d = a_kk`, every other column j loses `a_kj` times column k, and column k
+/// becomes `−a_ik / d` with `1/d` on the diagonal. Each sweep is a run of contiguous
+/// multiply-adds over the columns, `N³` in all. None if a pivot is not positive and finite.
+fn spd_inverse(mut a: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = a.nrows();
+    let mut ck = vec![0.0; n];
+    for k in 0..n {
+        let d = a[(k, k)];
+        if !(d > 0.0 && d.is_finite()) {
+            return None;
+        }
+        ck.copy_from_slice(a.column(k).as_slice());
+        let data = a.as_mut_slice();
+        for (j, col) in data.chunks_exact_mut(n).enumerate() {
+            if j == k {
+                continue;
+            }
+            let f = col[k] / d;
+            crate::simd::axpy(col, -f, &ck);
+            col[k] = f;
+        }
+        let col = &mut data[k * n..(k + 1) * n];
+        for (o, &c) in col.iter_mut().zip(&ck) {
+            *o = -c / d;
+        }
+        col[k] = 1.0 / d;
     }
+    Some(a)
+}
+
+/// `y = A x` for a square column-major `A`, column by column.
+fn dense_mul(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
+    y.fill(0.0);
+    crate::simd::axpy_columns(y, x, a.as_slice());
+}
+
+/// `out += Ψᵀ f` (one wheelset's generalised forces).
+fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut [f64]) {
+    crate::simd::project_force(out, psi, [f.x, f.y, f.z]);
 }
 
 /// Preallocated buffers of one step.
@@ -669,10 +744,11 @@ struct Work {
     qc: DVector<f64>,
     dhat: DVector<f64>,
     bq: DVector<f64>,
-    /// The preconditioner: the factorised reduced matrix of an earlier step (None: assemble
-    /// at the next solve), the fewest iterations it has needed and the iterations beyond
-    /// those it has cost since.
-    pre: Option<Cholesky<f64, Dyn>>,
+    /// The preconditioner: the inverse of the reduced matrix of an earlier step (None:
+    /// assemble at the next solve; a product with it is a run of independent multiply-adds,
+    /// where the two triangular solves of its Cholesky factor are chains), the fewest
+    /// iterations it has needed and the iterations beyond those it has cost since.
+    pre: Option<DMatrix<f64>>,
     pre_fewest: usize,
     pre_extra: usize,
     costs: Costs,
@@ -684,6 +760,7 @@ struct Work {
     cg_z: DVector<f64>,
     cg_p: DVector<f64>,
     cg_ap: DVector<f64>,
+    cg_t: DVector<f64>,
     ux: Vec<f64>,
     sx: Vec<f64>,
     vm: Vec<DVector<f64>>,
@@ -724,6 +801,7 @@ impl Work {
             cg_z: DVector::zeros(nb),
             cg_p: DVector::zeros(nb),
             cg_ap: DVector::zeros(nb),
+            cg_t: DVector::zeros(nb),
             ux: vec![0.0; wmax],
             sx: vec![0.0; wmax],
             vm: per(&|m| m.ndof()),
@@ -755,7 +833,6 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
             kvw,
             cvw,
             s_rows: sparse_rows(&s),
-            s,
             h: DMatrix::zeros(3 * nw, 0),
         };
     }
@@ -782,7 +859,6 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         kvw,
         cvw,
         s_rows: sparse_rows(&s),
-        s,
         h,
     }
 }
@@ -802,4 +878,45 @@ fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
                 .collect()
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sweeps give the inverse: `A A⁻¹ = I` to round-off on a symmetric positive
+    /// definite matrix with a wide range of scales (a reduced matrix's diagonal spans ω² of
+    /// the first and last modes), and None for an indefinite one.
+    #[test]
+    fn gauss_jordan_sweeps_invert_a_positive_definite_matrix() {
+        let n = 20;
+        let b = DMatrix::from_fn(n, n, |i, j| ((i * 7 + j * 13) % 11) as f64 - 5.0);
+        let scale = DMatrix::from_fn(n, n, |i, j| {
+            if i == j {
+                10f64.powf(i as f64 / 4.0)
+            } else {
+                0.0
+            }
+        });
+        let a = &scale * (b.transpose() * &b + DMatrix::identity(n, n)) * &scale;
+        let inv = spd_inverse(a.clone()).expect("positive definite");
+        let err = (&a * &inv - DMatrix::<f64>::identity(n, n)).amax();
+        let cond = {
+            let e = a.clone().symmetric_eigenvalues();
+            e.max() / e.min()
+        };
+        assert!(
+            err <= 1e-15 * cond,
+            "|A A⁻¹ − I| = {err:e}, condition {cond:e}"
+        );
+        let mut x = vec![0.0; n];
+        let v: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        dense_mul(&inv, &v, &mut x);
+        let direct = a.cholesky().unwrap().solve(&DVector::from_vec(v));
+        for (p, q) in x.iter().zip(direct.iter()) {
+            assert!((p - q).abs() <= 1e-15 * cond * q.abs().max(direct.amax()));
+        }
+        let indefinite = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
+        assert!(spd_inverse(indefinite).is_none());
+    }
 }
