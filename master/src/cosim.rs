@@ -144,30 +144,43 @@ pub fn run_cosim<W: std::io::Write>(
     let force_vrs = tl.wheel_out.vrs(&[wheel::F_Y, wheel::M_X, wheel::F_Z]);
     let veh_vrs = tl.vehicle_out.vrs(&[0, 1]);
     let layout = rec.layout.clone();
-    let sample_at = |sys: &mut System, t: f64| -> Result<Sample, CouplingError> {
-        let mut pv = vec![0.0; probe_vrs.len()];
-        let mut fv = vec![0.0; force_vrs.len()];
-        let mut vv = vec![0.0; veh_vrs.len()];
-        use crate::export::Side;
-        sys.participants[Side::Bridge as usize].get_real(&probe_vrs, &mut pv)?;
-        sys.participants[Side::Train as usize].get_real(&force_vrs, &mut fv)?;
-        sys.participants[Side::Train as usize].get_real(&veh_vrs, &mut vv)?;
-        Ok(Sample {
-            t,
-            probes: pv.chunks(bl.probe_out.width()).map(probe_values).collect(),
-            vehicles: (0..nv)
-                .map(|i| {
-                    let has = layout.vehicles[i];
-                    [has[0].then_some(vv[2 * i]), has[1].then_some(vv[2 * i + 1])]
-                })
-                .collect(),
-            forces: fv
-                .chunks(3)
-                .map(|c| nalgebra::Vector3::new(c[0], c[1], c[2]))
-                .collect(),
-        })
+    // One sample and its read buffers, refilled at every step (no allocation per step).
+    let (mut pv, mut fv, mut vv) = (
+        vec![0.0; probe_vrs.len()],
+        vec![0.0; force_vrs.len()],
+        vec![0.0; veh_vrs.len()],
+    );
+    let mut sample = Sample {
+        t: 0.0,
+        probes: Vec::new(),
+        vehicles: Vec::new(),
+        forces: Vec::new(),
     };
-    rec.record(&sample_at(&mut sys, 0.0)?, true)?;
+    let mut sample_at =
+        |sys: &mut System, t: f64, sample: &mut Sample| -> Result<(), CouplingError> {
+            use crate::export::Side;
+            sys.participants[Side::Bridge as usize].get_real(&probe_vrs, &mut pv)?;
+            sys.participants[Side::Train as usize].get_real(&force_vrs, &mut fv)?;
+            sys.participants[Side::Train as usize].get_real(&veh_vrs, &mut vv)?;
+            sample.t = t;
+            sample.probes.clear();
+            sample
+                .probes
+                .extend(pv.chunks(bl.probe_out.width()).map(probe_values));
+            sample.vehicles.clear();
+            sample.vehicles.extend((0..nv).map(|i| {
+                let has = layout.vehicles[i];
+                [has[0].then_some(vv[2 * i]), has[1].then_some(vv[2 * i + 1])]
+            }));
+            sample.forces.clear();
+            sample.forces.extend(
+                fv.chunks(3)
+                    .map(|c| nalgebra::Vector3::new(c[0], c[1], c[2])),
+            );
+            Ok(())
+        };
+    sample_at(&mut sys, 0.0, &mut sample)?;
+    rec.record(&sample, true)?;
     let mut stats = CouplingStatistics::new();
     let pb = crate::progress::bar(model.steps, show_progress);
     let h = model.dt;
@@ -178,10 +191,8 @@ pub fn run_cosim<W: std::io::Write>(
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);
         let t1 = k as f64 * h;
-        rec.record(
-            &sample_at(&mut sys, t1)?,
-            k % model.output_every == 0 || k == model.steps,
-        )?;
+        sample_at(&mut sys, t1, &mut sample)?;
+        rec.record(&sample, k % model.output_every == 0 || k == model.steps)?;
         if k % 256 == 0 {
             pb.set_position(k as u64);
         }
