@@ -175,7 +175,9 @@ impl Monolithic {
             })
             .collect();
         s.initial_bridge_acceleration();
-        s.finish_outputs();
+        let mut deck = Vec::new();
+        s.deck_motion_into(s.q.as_slice(), s.qd.as_slice(), s.qdd.as_slice(), &mut deck);
+        s.finish_outputs(&deck);
         s
     }
 
@@ -247,16 +249,32 @@ impl Monolithic {
     }
 
     /// Rail motion and wheel forces from the current state.
-    fn finish_outputs(&mut self) {
+    /// The deck's part `(Ψ q, Ψ q̇, Ψ q̈)` of the rail motion under every wheelset (zero off
+    /// the deck), at the modal state `(q, q̇, q̈)`, into `out`.
+    fn deck_motion_into(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut Vec<[Vector3<f64>; 3]>,
+    ) {
+        out.clear();
+        out.extend((0..self.wheelsets.len()).map(|w| {
+            if self.on[w] {
+                psi_mul3(self.psi_w(w), q, qd, qdd)
+            } else {
+                [Vector3::zeros(); 3]
+            }
+        }));
+    }
+
+    /// Rail motion and wheel forces at the current state, the deck's part of the rail motion
+    /// given ([`Self::deck_motion_into`]).
+    fn finish_outputs(&mut self, deck: &[[Vector3<f64>; 3]]) {
         for w in 0..self.wheelsets.len() {
             let p = self.presc[w];
             let [u, ud, udd] = if self.on[w] {
-                let [a, b, c] = psi_mul3(
-                    self.psi_w(w),
-                    self.q.as_slice(),
-                    self.qd.as_slice(),
-                    self.qdd.as_slice(),
-                );
+                let [a, b, c] = deck[w];
                 [a + p[0], b + p[1], c + p[2]]
             } else {
                 p
@@ -351,6 +369,19 @@ impl Monolithic {
             Some(q1) => q1,
             None => self.solve_direct(&w),
         };
+        for n in 0..nb {
+            let (qd1, qdd1) = nm.update(q1[n], self.q[n], self.qd[n], self.qdd[n]);
+            self.qd[n] = qd1;
+            self.qdd[n] = qdd1;
+        }
+        // The deck's rail motion at the new state, once: its Ψ q₁ serves the back-substitution.
+        let mut deck = std::mem::take(&mut w.deck);
+        self.deck_motion_into(
+            q1.as_slice(),
+            self.qd.as_slice(),
+            self.qdd.as_slice(),
+            &mut deck,
+        );
         // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1.
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let n = tv.model.ndof();
@@ -362,15 +393,7 @@ impl Monolithic {
             let nwi = tv.model.wheelsets.len();
             let uq = &mut w.z[i];
             for l in 0..nwi {
-                let ws = f0 + l;
-                let p = if self.on[ws] {
-                    psi_mul(&self.psi[ws * nb..(ws + 1) * nb], q1.as_slice())
-                } else {
-                    Vector3::zeros()
-                };
-                uq[3 * l] = p.x;
-                uq[3 * l + 1] = p.y;
-                uq[3 * l + 2] = p.z;
+                uq.fixed_rows_mut::<3>(3 * l).copy_from(&deck[f0 + l][0]);
             }
             let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
             // the mass predictor is spent: its buffer takes v1
@@ -380,15 +403,11 @@ impl Monolithic {
             v1.gemv_tr(-1.0, &cache.h, uq, 1.0);
             self.vehicles[i].newmark_update(&nm, v1);
         }
-        for n in 0..nb {
-            let (qd1, qdd1) = nm.update(q1[n], self.q[n], self.qd[n], self.qdd[n]);
-            self.qd[n] = qd1;
-            self.qdd[n] = qdd1;
-        }
         self.q = q1;
         self.t = t1;
+        self.finish_outputs(&deck);
+        w.deck = deck;
         self.work = w;
-        self.finish_outputs();
     }
 
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled).
@@ -769,6 +788,8 @@ struct Work {
     z: Vec<DVector<f64>>,
     /// Scratch of [`ModalBridge::rail_shapes_lanes`].
     lanes: Vec<[f64; SHAPE_LANES]>,
+    /// The deck's part of the rail motion under each wheelset at the end of the step.
+    deck: Vec<[Vector3<f64>; 3]>,
 }
 
 impl Work {
@@ -809,6 +830,7 @@ impl Work {
             bv: per(&|m| m.ndof()),
             z: per(&|m| 3 * m.wheelsets.len()),
             lanes: Vec::new(),
+            deck: Vec::new(),
         }
     }
 }
