@@ -183,7 +183,8 @@ pub fn run_monolithic<W: std::io::Write>(
     );
     let probe_x: Vec<f64> = model.probes.iter().map(|p| p.1).collect();
     let shapes = ProbeShapes::new(&model.bridge, &probe_x);
-    rec.record(&sol.sample(&shapes), true)?;
+    let mut sample = sol.sample(&shapes);
+    rec.record(&sample, true)?;
     let pb = crate::progress::bar(model.steps, show_progress);
     for k in 1..=model.steps {
         crate::interrupt::check(sol.t)?;
@@ -195,10 +196,8 @@ pub fn run_monolithic<W: std::io::Write>(
             )
             .into());
         }
-        rec.record(
-            &sol.sample(&shapes),
-            k % model.output_every == 0 || k == model.steps,
-        )?;
+        sol.sample_into(&shapes, &mut sample);
+        rec.record(&sample, k % model.output_every == 0 || k == model.steps)?;
         if k % 256 == 0 {
             pb.set_position(k as u64);
         }

@@ -26,24 +26,36 @@ impl ProbeShapes {
                 .collect(),
         )
     }
-
-    /// The probe values for modal coordinates `q` and accelerations `qdd`.
-    pub fn values(&self, q: &[f64], qdd: &[f64]) -> Vec<ProbeValues> {
-        self.0
-            .iter()
-            .map(|sh| ProbeValues::from_shapes(sh, q, qdd))
-            .collect()
-    }
 }
 
 impl Monolithic {
     /// The response at the current time.
     pub fn sample(&self, probes: &ProbeShapes) -> Sample {
-        Sample {
-            t: self.t,
-            probes: probes.values(self.q.as_slice(), self.qdd.as_slice()),
-            vehicles: self
-                .train
+        let mut out = Sample {
+            t: 0.0,
+            probes: Vec::new(),
+            vehicles: Vec::new(),
+            forces: Vec::new(),
+        };
+        self.sample_into(probes, &mut out);
+        out
+    }
+
+    /// [`Monolithic::sample`] into `out`, reusing its vectors (no allocation once they have
+    /// their lengths).
+    pub fn sample_into(&self, probes: &ProbeShapes, out: &mut Sample) {
+        let (q, qdd) = (self.q.as_slice(), self.qdd.as_slice());
+        out.t = self.t;
+        out.probes.clear();
+        out.probes.extend(
+            probes
+                .0
+                .iter()
+                .map(|sh| ProbeValues::from_shapes(sh, q, qdd)),
+        );
+        out.vehicles.clear();
+        out.vehicles.extend(
+            self.train
                 .vehicles
                 .iter()
                 .zip(&self.vehicles)
@@ -52,9 +64,8 @@ impl Monolithic {
                         tv.model.body.lateral.map(|i| s.vdd[i]),
                         tv.model.body.vertical.map(|i| s.vdd[i]),
                     ]
-                })
-                .collect(),
-            forces: self.forces.clone(),
-        }
+                }),
+        );
+        out.forces.clone_from(&self.forces);
     }
 }
