@@ -77,18 +77,6 @@ impl SparseMatrix {
         m
     }
 
-    /// The compressed non-zeros of a dense square matrix (tests, small models).
-    pub fn from_dense(a: &Mat<f64>) -> Self {
-        assert_eq!(a.nrows(), a.ncols(), "a square matrix");
-        let mut triplets = Vec::new();
-        for j in 0..a.ncols() {
-            for i in 0..a.nrows() {
-                triplets.push((i, j, a[(i, j)]));
-            }
-        }
-        Self::from_triplets(a.nrows(), &triplets)
-    }
-
     /// Number of rows (= columns).
     pub fn nrows(&self) -> usize {
         self.n
@@ -208,7 +196,6 @@ mod tests {
         }
         // (0,0), (3,1), (0,4), (4,4); (1,3), (2,2) and (4,1) sum to exactly zero
         assert_eq!(s.nnz(), 4);
-        assert_eq!(s, SparseMatrix::from_dense(&dense));
         assert_ne!(s.get(0, 4), s.get(4, 4), "the order of addition is kept");
         assert_eq!(s.to_dense(), dense);
         let x = [1.0, -2.0, 3.0, 0.5, 4.0];

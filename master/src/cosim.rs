@@ -150,12 +150,7 @@ pub fn run_cosim<W: std::io::Write>(
         vec![0.0; force_vrs.len()],
         vec![0.0; veh_vrs.len()],
     );
-    let mut sample = Sample {
-        t: 0.0,
-        probes: Vec::new(),
-        vehicles: Vec::new(),
-        forces: Vec::new(),
-    };
+    let mut sample = Sample::default();
     let mut sample_at =
         |sys: &mut System, t: f64, sample: &mut Sample| -> Result<(), CouplingError> {
             use crate::export::Side;

@@ -176,7 +176,7 @@ impl Monolithic {
             .collect();
         s.initial_bridge_acceleration();
         let mut deck = Vec::new();
-        s.deck_motion_into(s.q.as_slice(), s.qd.as_slice(), s.qdd.as_slice(), &mut deck);
+        s.deck_motion_into(&mut deck);
         s.finish_outputs(&deck);
         s
     }
@@ -250,14 +250,9 @@ impl Monolithic {
 
     /// Rail motion and wheel forces from the current state.
     /// The deck's part `(Ψ q, Ψ q̇, Ψ q̈)` of the rail motion under every wheelset (zero off
-    /// the deck), at the modal state `(q, q̇, q̈)`, into `out`.
-    fn deck_motion_into(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        qdd: &[f64],
-        out: &mut Vec<[Vector3<f64>; 3]>,
-    ) {
+    /// the deck) at the current modal state, into `out`.
+    fn deck_motion_into(&self, out: &mut Vec<[Vector3<f64>; 3]>) {
+        let (q, qd, qdd) = (self.q.as_slice(), self.qd.as_slice(), self.qdd.as_slice());
         out.clear();
         out.extend((0..self.wheelsets.len()).map(|w| {
             if self.on[w] {
@@ -374,14 +369,9 @@ impl Monolithic {
             self.qd[n] = qd1;
             self.qdd[n] = qdd1;
         }
+        self.q = q1;
         // The deck's rail motion at the new state, once: its Ψ q₁ serves the back-substitution.
-        let mut deck = std::mem::take(&mut w.deck);
-        self.deck_motion_into(
-            q1.as_slice(),
-            self.qd.as_slice(),
-            self.qdd.as_slice(),
-            &mut deck,
-        );
+        self.deck_motion_into(&mut w.deck);
         // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1.
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let n = tv.model.ndof();
@@ -393,7 +383,7 @@ impl Monolithic {
             let nwi = tv.model.wheelsets.len();
             let uq = &mut w.z[i];
             for l in 0..nwi {
-                uq.fixed_rows_mut::<3>(3 * l).copy_from(&deck[f0 + l][0]);
+                uq.fixed_rows_mut::<3>(3 * l).copy_from(&w.deck[f0 + l][0]);
             }
             let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
             // the mass predictor is spent: its buffer takes v1
@@ -403,10 +393,8 @@ impl Monolithic {
             v1.gemv_tr(-1.0, &cache.h, uq, 1.0);
             self.vehicles[i].newmark_update(&nm, v1);
         }
-        self.q = q1;
         self.t = t1;
-        self.finish_outputs(&deck);
-        w.deck = deck;
+        self.finish_outputs(&w.deck);
         self.work = w;
     }
 
@@ -638,7 +626,7 @@ struct Costs {
     apply: f64,
     /// One product with the `N_b × N_b` inverse of the preconditioner (counted as the two
     /// triangular solves with its factor, `2 N_b²`).
-    factor_solve: f64,
+    inverse_product: f64,
     /// Assembling, factorising and inverting `A`.
     assembly: f64,
 }
@@ -654,7 +642,7 @@ impl Costs {
         }
         Costs {
             apply,
-            factor_solve: 2.0 * nb * nb,
+            inverse_product: 2.0 * nb * nb,
             assembly,
         }
     }
@@ -665,12 +653,12 @@ impl Costs {
     /// the default Tsing Ma case 1.50 and 9.3; not 200 modes under 128 wheelsets, whose
     /// matrix costs as much as the application, and where `D̂` was measured faster).
     fn lagged(&self) -> bool {
-        4.0 * self.factor_solve <= self.apply
+        4.0 * self.inverse_product <= self.apply
     }
 
     /// One iteration with the factor.
     fn iteration(&self) -> f64 {
-        self.apply + self.factor_solve
+        self.apply + self.inverse_product
     }
 }
 /// Residual of each mode, relative to the size of its own terms, at which the iteration

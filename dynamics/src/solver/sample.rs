@@ -31,12 +31,7 @@ impl ProbeShapes {
 impl Monolithic {
     /// The response at the current time.
     pub fn sample(&self, probes: &ProbeShapes) -> Sample {
-        let mut out = Sample {
-            t: 0.0,
-            probes: Vec::new(),
-            vehicles: Vec::new(),
-            forces: Vec::new(),
-        };
+        let mut out = Sample::default();
         self.sample_into(probes, &mut out);
         out
     }
