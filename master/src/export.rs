@@ -303,20 +303,30 @@ pub fn export_with(
         libs: &libs,
         experiment,
     };
-    package.fmu::<fmu_bridge::BridgeFmu>(
-        &bridge_path,
-        (BRIDGE_ID, &bridge_guid, fmu_bridge::layout::DESCRIPTION),
-        &bridge_layout.variables(&bridge_res),
-        || fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _),
-        bridge_files,
-    )?;
-    package.fmu::<fmu_train::TrainFmu>(
-        &train_path,
-        (TRAIN_ID, &train_guid, fmu_train::layout::DESCRIPTION),
-        &train_layout.variables(&train_res),
-        || fmu_train::TrainFmu::dependencies(&train_res),
-        || vec![(TRAIN_RESOURCE.to_string(), train_json)],
-    )?;
+    // The two archives are independent: the train's is packaged on a second thread while
+    // the bridge's (the larger) is on this one.
+    std::thread::scope(|scope| {
+        let train = scope.spawn(|| {
+            package.fmu::<fmu_train::TrainFmu>(
+                &train_path,
+                (TRAIN_ID, &train_guid, fmu_train::layout::DESCRIPTION),
+                &train_layout.variables(&train_res),
+                || fmu_train::TrainFmu::dependencies(&train_res),
+                || vec![(TRAIN_RESOURCE.to_string(), train_json)],
+            )
+        });
+        let bridge = package.fmu::<fmu_bridge::BridgeFmu>(
+            &bridge_path,
+            (BRIDGE_ID, &bridge_guid, fmu_bridge::layout::DESCRIPTION),
+            &bridge_layout.variables(&bridge_res),
+            || fmu_bridge::BridgeFmu::dependencies(&bridge_res, model.track.clone() as _),
+            bridge_files,
+        );
+        let train = train
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        bridge.and(train)
+    })?;
     let wind = match &model.bridge.buffeting {
         Some(spec) => {
             let res = WindResources {
