@@ -216,11 +216,23 @@ impl<W: Write> Recorder<W> {
         } else {
             0.0
         };
+        let mut records = Vec::new();
+        for (i, has) in self.layout.vehicles.iter().enumerate() {
+            for (d, dir) in [Direction::Lateral, Direction::Vertical]
+                .into_iter()
+                .enumerate()
+            {
+                if has[d] {
+                    records.push((self.acc_history[i][d].as_slice(), dir));
+                }
+            }
+        }
+        let mut w = sperling_many(&records, dt).into_iter();
         self.vehicles.sperling_lateral.clear();
         self.vehicles.sperling_vertical.clear();
-        for (i, has) in self.layout.vehicles.iter().enumerate() {
-            let lat = has[0].then(|| sperling(&self.acc_history[i][0], dt, Direction::Lateral));
-            let ver = has[1].then(|| sperling(&self.acc_history[i][1], dt, Direction::Vertical));
+        for has in &self.layout.vehicles {
+            let lat = has[0].then(|| w.next().expect("one index per record"));
+            let ver = has[1].then(|| w.next().expect("one index per record"));
             self.vehicles.sperling_lateral.push(lat);
             self.vehicles.sperling_vertical.push(ver);
         }
@@ -272,16 +284,55 @@ pub fn sperling_weight(f: f64, dir: Direction) -> f64 {
 /// Sperling index of an acceleration record (m/s², uniform step `dt`): amplitude spectrum by
 /// FFT, components from 0.5 to 30 Hz.
 pub fn sperling(acc: &[f64], dt: f64, dir: Direction) -> f64 {
-    let n = acc.len();
-    if n < 4 || dt <= 0.0 {
-        return 0.0;
-    }
-    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = acc
-        .iter()
-        .map(|&a| rustfft::num_complex::Complex::new(a * 100.0, 0.0))
-        .collect();
+    sperling_many(&[(acc, dir)], dt)[0]
+}
+
+/// [`sperling`] of several records of one sampling interval `dt`, each bit for bit the same:
+/// one FFT plan per record length, shared, and the records spread over the available cores.
+pub fn sperling_many(records: &[(&[f64], Direction)], dt: f64) -> Vec<f64> {
     let mut planner = rustfft::FftPlanner::new();
-    planner.plan_fft_forward(n).process(&mut buf);
+    let plans: Vec<_> = records
+        .iter()
+        .map(|(acc, _)| (acc.len() >= 4 && dt > 0.0).then(|| planner.plan_fft_forward(acc.len())))
+        .collect();
+    let mut out = vec![0.0; records.len()];
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let per = records.len().div_ceil(threads).max(1);
+    std::thread::scope(|scope| {
+        for ((records, plans), out) in records
+            .chunks(per)
+            .zip(plans.chunks(per))
+            .zip(out.chunks_mut(per))
+        {
+            scope.spawn(move || {
+                let mut buf = Vec::new();
+                for (((acc, dir), plan), w) in records.iter().zip(plans).zip(out) {
+                    if let Some(plan) = plan {
+                        *w = sperling_with(plan.as_ref(), acc, dt, *dir, &mut buf);
+                    }
+                }
+            });
+        }
+    });
+    out
+}
+
+/// The index of one record (at least 4 values, `dt > 0`) by `fft`, the forward FFT of its
+/// length, in the buffer `buf`.
+fn sperling_with(
+    fft: &dyn rustfft::Fft<f64>,
+    acc: &[f64],
+    dt: f64,
+    dir: Direction,
+    buf: &mut Vec<rustfft::num_complex::Complex<f64>>,
+) -> f64 {
+    let n = acc.len();
+    buf.clear();
+    buf.extend(
+        acc.iter()
+            .map(|&a| rustfft::num_complex::Complex::new(a * 100.0, 0.0)),
+    );
+    fft.process(buf);
     let df = 1.0 / (n as f64 * dt);
     let mut sum = 0.0;
     for (k, c) in buf.iter().enumerate().take(n / 2 + 1).skip(1) {
@@ -321,6 +372,46 @@ mod tests {
                 "f = {f}: {w} vs {expected}"
             );
         }
+    }
+
+    /// Several records at once (of two lengths, more records than cores, one too short)
+    /// give each record's index bit for bit.
+    #[test]
+    fn sperling_of_many_records_is_each_records_index() {
+        let dt = 0.002;
+        let record = |n: usize, f: f64, phase: f64| -> Vec<f64> {
+            (0..n)
+                .map(|k| 0.4 * (2.0 * std::f64::consts::PI * f * k as f64 * dt + phase).sin())
+                .collect()
+        };
+        let data: Vec<(Vec<f64>, Direction)> = (0..9)
+            .map(|i| {
+                let n = if i % 3 == 0 { 3253 * 4 } else { 6000 };
+                let dir = if i % 2 == 0 {
+                    Direction::Lateral
+                } else {
+                    Direction::Vertical
+                };
+                (record(n, 1.0 + i as f64, 0.3 * i as f64), dir)
+            })
+            .chain([(vec![1.0, 2.0, 3.0], Direction::Vertical)])
+            .collect();
+        let records: Vec<(&[f64], Direction)> =
+            data.iter().map(|(a, d)| (a.as_slice(), *d)).collect();
+        let many = sperling_many(&records, dt);
+        assert_eq!(many.len(), records.len());
+        for ((acc, dir), w) in records.iter().zip(&many) {
+            let mut planner = rustfft::FftPlanner::new();
+            let one = if acc.len() < 4 {
+                0.0
+            } else {
+                let plan = planner.plan_fft_forward(acc.len());
+                sperling_with(plan.as_ref(), acc, dt, *dir, &mut Vec::new())
+            };
+            assert_eq!(w.to_bits(), one.to_bits());
+        }
+        assert!(many[..9].iter().all(|&w| w > 0.0));
+        assert_eq!(many[9], 0.0);
     }
 
     #[test]
