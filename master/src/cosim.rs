@@ -7,7 +7,7 @@
 //! forces. Every step's outputs fill the same [`Sample`] as the monolithic solver.
 
 use crate::coupling::{
-    advance, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, Discrete,
+    advance_into, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, Discrete,
     Participant, StepStatus, System,
 };
 use crate::model::Model;
@@ -177,12 +177,13 @@ pub fn run_cosim<W: std::io::Write>(
     sample_at(&mut sys, 0.0, &mut sample)?;
     rec.record(&sample, true)?;
     let mut stats = CouplingStatistics::new();
+    let mut report = crate::coupling::AdvanceReport::default();
     let pb = crate::progress::bar(model.steps, show_progress);
     let h = model.dt;
     for k in 1..=model.steps {
         let t = (k - 1) as f64 * h;
         crate::interrupt::check(t)?;
-        let report = advance(scheme.as_mut(), &mut sys, t, h, cfg.policy(h))
+        advance_into(scheme.as_mut(), &mut sys, t, h, cfg.policy(h), &mut report)
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);
         let t1 = k as f64 * h;

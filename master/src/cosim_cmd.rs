@@ -18,7 +18,7 @@
 
 use crate::coupling::CouplingStatistics;
 use crate::coupling::{
-    advance, build_scheme, AccelerationKind, CouplingConfig, Discrete, SchemeKind,
+    advance_into, build_scheme, AccelerationKind, CouplingConfig, Discrete, SchemeKind,
 };
 use std::io::Write;
 use std::path::PathBuf;
@@ -240,11 +240,12 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
     scheme.initialize(sys)?;
     rows.write(sys, start, &mut csv)?;
     let mut stats = CouplingStatistics::new();
+    let mut report = crate::coupling::AdvanceReport::default();
     let pb = crate::progress::bar(steps, !args.quiet);
     for k in 1..=steps {
         let (t, t1, hk) = communication_step(start, stop, h, k, steps);
         crate::interrupt::check(t)?;
-        let report = advance(scheme.as_mut(), sys, t, hk, cfg.policy(hk))
+        advance_into(scheme.as_mut(), sys, t, hk, cfg.policy(hk), &mut report)
             .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
         stats.record(&report);
         if k.is_multiple_of(every) || k == steps {

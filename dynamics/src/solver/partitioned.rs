@@ -116,6 +116,8 @@ pub struct BridgeSide {
     pub deck_wind: Option<Vec<[f64; 2]>>,
     /// Scratch of [`Self::rails`]: `(q, q̇, q̈, 0)` of each mode.
     modal: Vec<[f64; 4]>,
+    /// Scratch of [`Self::step`]: the generalised forces.
+    force: Vec<f64>,
 }
 
 impl Clone for BridgeSide {
@@ -130,6 +132,7 @@ impl Clone for BridgeSide {
             buffeting: self.buffeting.clone(),
             deck_wind: self.deck_wind.clone(),
             modal: Vec::new(),
+            force: Vec::new(),
         }
     }
 
@@ -167,6 +170,7 @@ impl BridgeSide {
             }),
             deck_wind: None,
             modal: Vec::new(),
+            force: Vec::new(),
             bridge,
             track,
         }
@@ -207,16 +211,23 @@ impl BridgeSide {
 
     /// Generalised forces `Σ Ψ(x_w)ᵀ f_w`.
     fn modal_force(&mut self, inputs: &[WheelInput]) -> Vec<f64> {
+        let mut fq = Vec::new();
+        self.modal_force_into(inputs, &mut fq);
+        fq
+    }
+
+    /// [`Self::modal_force`] into `fq` (resized to the modes).
+    fn modal_force_into(&mut self, inputs: &[WheelInput], fq: &mut Vec<f64>) {
         let nb = self.omega.len();
-        let mut fq = vec![0.0; nb];
+        fq.clear();
+        fq.resize(nb, 0.0);
         let mut c = self.cache.lock().expect("shape cache");
         c.fill(&self.bridge, &*self.track, nb, inputs);
         for (w, wi) in inputs.iter().enumerate() {
             if let (true, psi, _) = c.entry(nb, w, wi.x) {
-                crate::simd::project_force(&mut fq, psi, wi.f);
+                crate::simd::project_force(fq, psi, wi.f);
             }
         }
-        fq
     }
 
     /// Bridge at rest in its static response to the steady deck loads; initial
@@ -241,7 +252,8 @@ impl BridgeSide {
     /// nominal one (the displacement form divides a round-off-sized difference by h²).
     pub fn step(&mut self, h: f64, inputs: &[WheelInput]) {
         let nm = Newmark::new(h);
-        let mut fq = self.modal_force(inputs);
+        let mut fq = std::mem::take(&mut self.force);
+        self.modal_force_into(inputs, &mut fq);
         let t1 = self.state.t + h;
         self.add_buffeting(t1, &mut fq);
         let s = &mut self.state;
@@ -255,6 +267,7 @@ impl BridgeSide {
             (s.q[n], s.qd[n]) = nm.correct((qp, qdp), a);
             s.qdd[n] = a;
         }
+        self.force = fq;
     }
 
     /// Rail motion (u, u̇, ü) under wheelset slot `w` at `x`, moving at `vx`: deck plus

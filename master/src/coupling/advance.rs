@@ -83,14 +83,29 @@ pub fn advance(
     h: f64,
     policy: OnNonConvergence,
 ) -> Result<AdvanceReport, CouplingError> {
+    let mut report = AdvanceReport::default();
+    advance_into(scheme, sys, t, h, policy, &mut report)?;
+    Ok(report)
+}
+
+/// [`advance`] into `report`, emptied first (a master loop keeps one report for the run, so
+/// a step allocates nothing for it).
+pub fn advance_into(
+    scheme: &mut dyn CouplingScheme,
+    sys: &mut System,
+    t: f64,
+    h: f64,
+    policy: OnNonConvergence,
+    report: &mut AdvanceReport,
+) -> Result<(), CouplingError> {
+    report.steps.clear();
+    report.rejected.clear();
     if !(h > 0.0 && h.is_finite() && t.is_finite()) {
         return Err(CouplingError::new(format!(
             "invalid coupling step t = {t} s, h = {h} s"
         )));
     }
-    let mut report = AdvanceReport::default();
-    attempt(scheme, sys, t, h, policy, &mut report)?;
-    Ok(report)
+    attempt(scheme, sys, t, h, policy, report)
 }
 
 fn attempt(

@@ -62,7 +62,7 @@ pub mod scheme;
 pub mod stats;
 pub mod system;
 
-pub use advance::{advance, AdvanceReport, OnNonConvergence, Substep};
+pub use advance::{advance, advance_into, AdvanceReport, OnNonConvergence, Substep};
 pub use config::{
     build_acceleration, build_scheme, AccelerationKind, CouplingConfig, NonConvergenceAction,
     SchemeKind,
