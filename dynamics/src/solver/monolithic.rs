@@ -360,16 +360,17 @@ impl Monolithic {
                 }
             }
         }
-        let q1 = match self.solve_iterative(&mut w) {
-            Some(q1) => q1,
-            None => self.solve_direct(&w),
-        };
+        if !self.solve_iterative(&mut w) {
+            let q1 = self.solve_direct(&w);
+            w.cg_x.copy_from(&q1);
+        }
+        let q1 = &w.cg_x;
         for n in 0..nb {
             let (qd1, qdd1) = nm.update(q1[n], self.q[n], self.qd[n], self.qdd[n]);
             self.qd[n] = qd1;
             self.qdd[n] = qdd1;
         }
-        self.q = q1;
+        self.q.copy_from(q1);
         // The deck's rail motion at the new state, once: its Ψ q₁ serves the back-substitution.
         self.deck_motion_into(&mut w.deck);
         // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1.
@@ -448,15 +449,18 @@ impl Monolithic {
     /// the wheelset positions of step k (the matrix changes only as the wheelsets move, so a
     /// few iterations suffice), started from `A_k⁻¹ b` and re-assembled when the iterations
     /// beyond the fewest since its assembly have cost as much as an assembly; otherwise `D̂`,
-    /// started from `D̂⁻¹ b` plus the coupling correction of the previous step. Returns None
-    /// when it has not reached round-off level within [`MAX_CG_ITERATIONS`], so that the
-    /// direct solver takes over.
-    fn solve_iterative(&self, w: &mut Work) -> Option<DVector<f64>> {
+    /// started from `D̂⁻¹ b` plus the coupling correction of the previous step. The solution
+    /// is left in `w.cg_x`; returns false when it has not reached round-off level within
+    /// [`MAX_CG_ITERATIONS`], so that the direct solver takes over.
+    fn solve_iterative(&self, w: &mut Work) -> bool {
         let nb = w.bq.len();
         let lagged = w.costs.lagged();
         if lagged && w.pre.is_none() {
             // None (not positive definite) leaves the step to the direct solver
-            w.pre = Some(spd_inverse(self.assemble_reduced(w))?);
+            let Some(inverse) = spd_inverse(self.assemble_reduced(w)) else {
+                return false;
+            };
+            w.pre = Some(inverse);
             w.pre_fewest = usize::MAX;
             w.pre_extra = 0;
         }
@@ -490,7 +494,7 @@ impl Monolithic {
             *x += &*correction;
         }
         if bq.amax() == 0.0 {
-            return Some(x.clone());
+            return true;
         }
         self.apply_reduced_with(dhat, x.as_slice(), ap.as_mut_slice(), ux, sx);
         r.copy_from(bq);
@@ -511,7 +515,6 @@ impl Monolithic {
                         correction[n] = x[n] - b[n] / dhat[n];
                     }
                 }
-                let result = x.clone();
                 if lagged {
                     w.pre_fewest = w.pre_fewest.min(it);
                     w.pre_extra += it - w.pre_fewest;
@@ -519,13 +522,13 @@ impl Monolithic {
                         w.pre = None;
                     }
                 }
-                return Some(result);
+                return true;
             }
             self.apply_reduced_with(dhat, p.as_slice(), ap.as_mut_slice(), ux, sx);
             let pap = p.dot(ap);
             if pap <= 0.0 {
                 w.pre = None;
-                return None;
+                return false;
             }
             let alpha = rz / pap;
             x.axpy(alpha, p, 1.0);
@@ -538,7 +541,7 @@ impl Monolithic {
             p.axpy(1.0, z, beta);
         }
         w.pre = None;
-        None
+        false
     }
 
     /// Assemble `A = D̂ + Σ Uᵀ S U` and solve by Cholesky.
