@@ -419,14 +419,9 @@ impl Monolithic {
             if cache.s_rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
                 continue;
             }
-            for l in 0..nwi {
-                let ws = f0 + l;
-                let p = if self.on[ws] {
-                    psi_mul(&self.psi[ws * nb..(ws + 1) * nb], x)
-                } else {
-                    Vector3::zeros()
-                };
-                ux[3 * l..3 * l + 3].copy_from_slice(p.as_slice());
+            psi_mul_wheelsets(&self.psi[f0 * nb..(f0 + nwi) * nb], x, &mut ux[..3 * nwi]);
+            for l in (0..nwi).filter(|&l| !self.on[f0 + l]) {
+                ux[3 * l..3 * l + 3].fill(0.0);
             }
             for (r, row) in cache.s_rows.iter().enumerate() {
                 sx[r] = row.iter().map(|&(c, v)| v * ux[c]).sum();
@@ -668,6 +663,8 @@ impl Costs {
 /// counts as exact.
 const CG_TOLERANCE: f64 = 1e-14;
 
+/// `Ψ q` of one wheelset, the modes summed in order (the reference of the other products).
+#[cfg(test)]
 fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     let mut u = Vector3::zeros();
     for (p, qn) in psi.iter().zip(q.iter()) {
@@ -676,6 +673,39 @@ fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
         u.z += p[2] * qn;
     }
     u
+}
+
+/// `Ψ q` ([`psi_mul`]) of several wheelsets, their shapes `psi` one after the other
+/// (`q.len()` modes each), into `out` (three values per wheelset): up to four wheelsets in one
+/// pass over the modes, so that their twelve sums, each a chain of dependent additions in the
+/// order of [`psi_mul`], proceed side by side (bitwise the same values).
+fn psi_mul_wheelsets(psi: &[[f64; 3]], q: &[f64], out: &mut [f64]) {
+    let nb = q.len();
+    for (psi, out) in psi.chunks(4 * nb).zip(out.chunks_mut(12)) {
+        match out.len() / 3 {
+            4 => psi_mul_lanes::<4>(psi, q, out),
+            3 => psi_mul_lanes::<3>(psi, q, out),
+            2 => psi_mul_lanes::<2>(psi, q, out),
+            _ => psi_mul_lanes::<1>(psi, q, out),
+        }
+    }
+}
+
+fn psi_mul_lanes<const L: usize>(psi: &[[f64; 3]], q: &[f64], out: &mut [f64]) {
+    let nb = q.len();
+    let rows: [&[[f64; 3]]; L] = std::array::from_fn(|l| &psi[l * nb..(l + 1) * nb]);
+    let mut acc = [[0.0; 3]; L];
+    for (n, &qn) in q.iter().enumerate() {
+        for l in 0..L {
+            let p = rows[l][n];
+            for k in 0..3 {
+                acc[l][k] += p[k] * qn;
+            }
+        }
+    }
+    for (o, a) in out.chunks_exact_mut(3).zip(&acc) {
+        o.copy_from_slice(a);
+    }
 }
 
 /// `Ψ a`, `Ψ b` in one pass over Ψ (each sum in the order of [`psi_mul`]).
@@ -900,6 +930,34 @@ mod tests {
     /// The sweeps give the inverse: `A A⁻¹ = I` to round-off on a symmetric positive
     /// definite matrix with a wide range of scales (a reduced matrix's diagonal spans ω² of
     /// the first and last modes), and None for an indefinite one.
+    /// Several wheelsets' `Ψ q` side by side equal one [`psi_mul`] per wheelset bit for bit,
+    /// for one to nine wheelsets (groups of four and the rest).
+    #[test]
+    fn wheelsets_side_by_side_give_each_wheelsets_product() {
+        let nb = 23;
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let q: Vec<f64> = (0..nb)
+            .map(|n| next() * 10f64.powi(n as i32 % 7 - 3))
+            .collect();
+        for nw in 1..=9 {
+            let psi: Vec<[f64; 3]> = (0..nw * nb).map(|_| [next(), next(), next()]).collect();
+            let mut out = vec![f64::NAN; 3 * nw];
+            psi_mul_wheelsets(&psi, &q, &mut out);
+            for l in 0..nw {
+                let one = psi_mul(&psi[l * nb..(l + 1) * nb], &q);
+                for k in 0..3 {
+                    assert_eq!(out[3 * l + k].to_bits(), one[k].to_bits(), "{nw} wheelsets");
+                }
+            }
+        }
+    }
+
     #[test]
     fn gauss_jordan_sweeps_invert_a_positive_definite_matrix() {
         let n = 20;
