@@ -153,15 +153,21 @@ impl<W: Write> Recorder<W> {
 
     /// Record one sample (also writes a history row when `write_row`).
     pub fn record(&mut self, s: &Sample, write_row: bool) -> std::io::Result<()> {
+        // the row is assembled only when it is written (the maxima take every sample)
+        let write_row = write_row && self.out.is_some();
         let mut row = std::mem::take(&mut self.row);
         row.clear();
-        row.push(s.t);
+        if write_row {
+            row.push(s.t);
+        }
         for (p, m) in s.probes.iter().zip(self.probes.iter_mut()) {
             m.vertical_displacement_max_m = m.vertical_displacement_max_m.max(p.z.abs());
             m.vertical_acceleration_max_m_s2 = m.vertical_acceleration_max_m_s2.max(p.z_dd.abs());
             m.lateral_displacement_max_m = m.lateral_displacement_max_m.max(p.y.abs());
             m.lateral_acceleration_max_m_s2 = m.lateral_acceleration_max_m_s2.max(p.y_dd.abs());
-            row.extend([p.z, p.z_dd, p.y, p.y_dd]);
+            if write_row {
+                row.extend([p.z, p.z_dd, p.y, p.y_dd]);
+            }
         }
         self.times.push(s.t);
         for (i, v) in s.vehicles.iter().enumerate() {
@@ -169,13 +175,17 @@ impl<W: Write> Recorder<W> {
                 self.vehicles.lateral_acceleration_max_m_s2 =
                     self.vehicles.lateral_acceleration_max_m_s2.max(a.abs());
                 self.acc_history[i][0].push(a);
-                row.push(a);
+                if write_row {
+                    row.push(a);
+                }
             }
             if let Some(a) = v[1] {
                 self.vehicles.vertical_acceleration_max_m_s2 =
                     self.vehicles.vertical_acceleration_max_m_s2.max(a.abs());
                 self.acc_history[i][1].push(a);
-                row.push(a);
+                if write_row {
+                    row.push(a);
+                }
             }
         }
         for (f, &(p0, b)) in s.forces.iter().zip(&self.layout.wheelsets) {
@@ -186,7 +196,9 @@ impl<W: Write> Recorder<W> {
             sf.derail_factor_wheel_max = sf.derail_factor_wheel_max.max(l.derail_wheel.abs());
             sf.offload_factor_wheel_max = sf.offload_factor_wheel_max.max(l.offload_wheel.abs());
             sf.lateral_force_max_n = sf.lateral_force_max_n.max(l.q.abs());
-            row.extend([f.x, f.z, f.y, l.derail, l.offload]);
+            if write_row {
+                row.extend([f.x, f.z, f.y, l.derail, l.offload]);
+            }
         }
         let written = match self.out.as_mut() {
             Some(o) if write_row => {
