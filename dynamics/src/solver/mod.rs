@@ -142,6 +142,9 @@ pub(crate) struct WheelForce {
     k_ww: Matrix3<f64>,
     c_ww: Matrix3<f64>,
     entries: Vec<WheelEntry>,
+    /// No mass, stiffness or damping between the wheelset and the rail or its vehicle: the
+    /// force is `p0` whatever the motion (a moving force).
+    constant: bool,
 }
 
 impl WheelForce {
@@ -155,12 +158,14 @@ impl WheelForce {
                 }
             }
         }
+        let zero = |m: &Matrix3<f64>| m.iter().all(|&v| v == 0.0);
         WheelForce {
             vehicle,
             p0: c.p0,
             m_w: c.m_w,
             k_ww: c.k_ww,
             c_ww: c.c_ww,
+            constant: entries.is_empty() && zero(&c.m_w) && zero(&c.k_ww) && zero(&c.c_ww),
             entries,
         }
     }
@@ -169,6 +174,10 @@ impl WheelForce {
     /// `s`: eq. (6) as [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the
     /// non-zero entries of `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
     pub(crate) fn force(&self, s: &VehicleState, rail: &[Vector3<f64>; 3]) -> Vector3<f64> {
+        if self.constant {
+            // p0 − 0·ü − 0·u − 0·u̇ for a finite motion, without the products
+            return self.p0;
+        }
         let [u, ud, udd] = rail;
         let mut f = self.p0 - self.m_w * udd - self.k_ww * u - self.c_ww * ud;
         let (v, vd) = (s.v.as_slice(), s.vd.as_slice());
@@ -187,4 +196,50 @@ struct WheelEntry {
     dof: usize,
     k: f64,
     c: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vehicle::WheelsetCoupling;
+    use nalgebra::DMatrix;
+
+    /// A moving force (no mass, stiffness or damping) gives `p0` bit for bit as the full
+    /// formula does for a finite motion of either sign; a wheelset with mass does not.
+    #[test]
+    fn a_moving_force_is_its_static_load_as_the_full_formula_gives() {
+        let coupling = |m: f64| WheelsetCoupling {
+            offset_m: 0.0,
+            k_vw: DMatrix::zeros(0, 3),
+            c_vw: DMatrix::zeros(0, 3),
+            k_ww: Matrix3::zeros(),
+            c_ww: Matrix3::zeros(),
+            m_w: Matrix3::from_diagonal(&Vector3::new(m, 0.0, m)),
+            p0: Vector3::new(0.0, 0.0, 1.7e5),
+            still_air_load_n: None,
+        };
+        let state = VehicleState {
+            v: DVector::zeros(0),
+            vd: DVector::zeros(0),
+            vdd: DVector::zeros(0),
+        };
+        let rail = [
+            Vector3::new(-1e-3, 2e-4, -3e-3),
+            Vector3::new(4e-2, -5e-3, 6e-2),
+            Vector3::new(-0.7, 0.8, -0.9),
+        ];
+        let full = |c: &WheelsetCoupling| {
+            let [u, ud, udd] = &rail;
+            c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud
+        };
+        let moving = coupling(0.0);
+        let f = WheelForce::of(0, &moving).force(&state, &rail);
+        assert!(WheelForce::of(0, &moving).constant);
+        assert_eq!(f.map(f64::to_bits), full(&moving).map(f64::to_bits));
+        let massive = coupling(1200.0);
+        assert!(!WheelForce::of(0, &massive).constant);
+        let f = WheelForce::of(0, &massive).force(&state, &rail);
+        assert_eq!(f.map(f64::to_bits), full(&massive).map(f64::to_bits));
+        assert_ne!(f, massive.p0);
+    }
 }
