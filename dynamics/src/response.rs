@@ -123,6 +123,9 @@ pub struct Recorder<W: Write> {
     /// The row being written and its text (kept to reuse their allocations).
     row: Vec<f64>,
     line: String,
+    /// Per wheelset, the force of the last sample (its bits) and the loads derived from it:
+    /// a force that has not changed (a moving force) has the same loads and maxima.
+    last_loads: Vec<Option<([u64; 3], WheelLoads)>>,
 }
 
 impl<W: Write> Recorder<W> {
@@ -148,6 +151,7 @@ impl<W: Write> Recorder<W> {
             rows: 0,
             row: Vec::new(),
             line: String::new(),
+            last_loads: Vec::new(),
         })
     }
 
@@ -188,14 +192,30 @@ impl<W: Write> Recorder<W> {
                 }
             }
         }
-        for (f, &(p0, b)) in s.forces.iter().zip(&self.layout.wheelsets) {
-            let l = WheelLoads::from_force(f, p0, b);
-            let sf = &mut self.safety;
-            sf.derail_factor_max = sf.derail_factor_max.max(l.derail.abs());
-            sf.offload_factor_max = sf.offload_factor_max.max(l.offload.abs());
-            sf.derail_factor_wheel_max = sf.derail_factor_wheel_max.max(l.derail_wheel.abs());
-            sf.offload_factor_wheel_max = sf.offload_factor_wheel_max.max(l.offload_wheel.abs());
-            sf.lateral_force_max_n = sf.lateral_force_max_n.max(l.q.abs());
+        self.last_loads.resize(s.forces.len(), None);
+        for ((f, &(p0, b)), last) in s
+            .forces
+            .iter()
+            .zip(&self.layout.wheelsets)
+            .zip(&mut self.last_loads)
+        {
+            let bits = [f.x.to_bits(), f.y.to_bits(), f.z.to_bits()];
+            let l = match last {
+                Some((was, l)) if *was == bits => *l,
+                _ => {
+                    let l = WheelLoads::from_force(f, p0, b);
+                    let sf = &mut self.safety;
+                    sf.derail_factor_max = sf.derail_factor_max.max(l.derail.abs());
+                    sf.offload_factor_max = sf.offload_factor_max.max(l.offload.abs());
+                    sf.derail_factor_wheel_max =
+                        sf.derail_factor_wheel_max.max(l.derail_wheel.abs());
+                    sf.offload_factor_wheel_max =
+                        sf.offload_factor_wheel_max.max(l.offload_wheel.abs());
+                    sf.lateral_force_max_n = sf.lateral_force_max_n.max(l.q.abs());
+                    *last = Some((bits, l));
+                    l
+                }
+            };
             if write_row {
                 row.extend([f.x, f.z, f.y, l.derail, l.offload]);
             }
