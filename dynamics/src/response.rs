@@ -406,6 +406,67 @@ mod tests {
         }
     }
 
+    /// A wheelset whose force repeats, then changes, then repeats: the safety maxima and the
+    /// history rows are those of each sample's loads taken one by one.
+    #[test]
+    fn repeated_forces_give_the_maxima_and_rows_of_every_sample() {
+        let layout = Layout {
+            probe_names: Vec::new(),
+            vehicles: Vec::new(),
+            wheelsets: vec![(1e5, 1.5), (1e5, 1.5)],
+        };
+        let forces = [
+            [Vector3::new(1e3, 0.0, 1e5), Vector3::new(0.0, 0.0, 1e5)],
+            [Vector3::new(1e3, 0.0, 1e5), Vector3::new(0.0, 0.0, 1e5)],
+            [Vector3::new(-4e3, 2e3, 0.8e5), Vector3::new(0.0, 0.0, 1e5)],
+            [
+                Vector3::new(-4e3, 2e3, 0.8e5),
+                Vector3::new(5e2, -1e3, 1.1e5),
+            ],
+            [Vector3::new(1e3, 0.0, 1e5), Vector3::new(5e2, -1e3, 1.1e5)],
+        ];
+        let mut rec = Recorder::new(layout.clone(), &[], Some(Vec::new())).unwrap();
+        let mut expected = SafetyMax::default();
+        let mut rows = String::new();
+        for (k, f) in forces.iter().enumerate() {
+            let sample = Sample {
+                t: k as f64,
+                probes: Vec::new(),
+                vehicles: Vec::new(),
+                forces: f.to_vec(),
+            };
+            rec.record(&sample, true).unwrap();
+            rows.push_str(&format!("{:e}", k as f64));
+            for (f, &(p0, b)) in f.iter().zip(&layout.wheelsets) {
+                let l = WheelLoads::from_force(f, p0, b);
+                expected.derail_factor_max = expected.derail_factor_max.max(l.derail.abs());
+                expected.offload_factor_max = expected.offload_factor_max.max(l.offload.abs());
+                expected.derail_factor_wheel_max =
+                    expected.derail_factor_wheel_max.max(l.derail_wheel.abs());
+                expected.offload_factor_wheel_max =
+                    expected.offload_factor_wheel_max.max(l.offload_wheel.abs());
+                expected.lateral_force_max_n = expected.lateral_force_max_n.max(l.q.abs());
+                for v in [f.x, f.z, f.y, l.derail, l.offload] {
+                    rows.push_str(&format!(",{v:e}"));
+                }
+            }
+            rows.push('\n');
+        }
+        let s = &rec.safety;
+        assert_eq!(s.derail_factor_max, expected.derail_factor_max);
+        assert_eq!(s.offload_factor_max, expected.offload_factor_max);
+        assert_eq!(s.derail_factor_wheel_max, expected.derail_factor_wheel_max);
+        assert_eq!(
+            s.offload_factor_wheel_max,
+            expected.offload_factor_wheel_max
+        );
+        assert_eq!(s.lateral_force_max_n, expected.lateral_force_max_n);
+        assert!(expected.offload_factor_max > 0.1 && expected.derail_factor_max > 0.01);
+        let text = String::from_utf8(rec.out.take().unwrap()).unwrap();
+        let body: String = text.lines().skip(1).map(|l| format!("{l}\n")).collect();
+        assert_eq!(body, rows);
+    }
+
     /// Several records at once (of two lengths, more records than cores, one too short)
     /// give each record's index bit for bit.
     #[test]
