@@ -110,6 +110,17 @@ pub struct SafetyMax {
     pub lateral_force_max_n: f64,
 }
 
+impl SafetyMax {
+    /// Takes one wheelset's loads into the maxima (of the absolute values).
+    pub fn include(&mut self, l: &WheelLoads) {
+        self.derail_factor_max = self.derail_factor_max.max(l.derail.abs());
+        self.offload_factor_max = self.offload_factor_max.max(l.offload.abs());
+        self.derail_factor_wheel_max = self.derail_factor_wheel_max.max(l.derail_wheel.abs());
+        self.offload_factor_wheel_max = self.offload_factor_wheel_max.max(l.offload_wheel.abs());
+        self.lateral_force_max_n = self.lateral_force_max_n.max(l.q.abs());
+    }
+}
+
 /// Accumulates samples: writes history rows and tracks maxima.
 pub struct Recorder<W: Write> {
     pub layout: Layout,
@@ -204,14 +215,7 @@ impl<W: Write> Recorder<W> {
                 Some((was, l)) if *was == bits => *l,
                 _ => {
                     let l = WheelLoads::from_force(f, p0, b);
-                    let sf = &mut self.safety;
-                    sf.derail_factor_max = sf.derail_factor_max.max(l.derail.abs());
-                    sf.offload_factor_max = sf.offload_factor_max.max(l.offload.abs());
-                    sf.derail_factor_wheel_max =
-                        sf.derail_factor_wheel_max.max(l.derail_wheel.abs());
-                    sf.offload_factor_wheel_max =
-                        sf.offload_factor_wheel_max.max(l.offload_wheel.abs());
-                    sf.lateral_force_max_n = sf.lateral_force_max_n.max(l.q.abs());
+                    self.safety.include(&l);
                     *last = Some((bits, l));
                     l
                 }
@@ -330,20 +334,27 @@ pub fn sperling_many(records: &[(&[f64], Direction)], dt: f64) -> Vec<f64> {
     let mut out = vec![0.0; records.len()];
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let per = records.len().div_ceil(threads).max(1);
+    type Plan = std::sync::Arc<dyn rustfft::Fft<f64>>;
+    let run = |records: &[(&[f64], Direction)], plans: &[Option<Plan>], out: &mut [f64]| {
+        let mut buf = Vec::new();
+        for (((acc, dir), plan), w) in records.iter().zip(plans).zip(out) {
+            if let Some(plan) = plan {
+                *w = sperling_with(plan.as_ref(), acc, dt, *dir, &mut buf);
+            }
+        }
+    };
+    let mut chunks = records
+        .chunks(per)
+        .zip(plans.chunks(per))
+        .zip(out.chunks_mut(per));
+    // the first chunk on this thread, the others on threads of their own
+    let first = chunks.next();
     std::thread::scope(|scope| {
-        for ((records, plans), out) in records
-            .chunks(per)
-            .zip(plans.chunks(per))
-            .zip(out.chunks_mut(per))
-        {
-            scope.spawn(move || {
-                let mut buf = Vec::new();
-                for (((acc, dir), plan), w) in records.iter().zip(plans).zip(out) {
-                    if let Some(plan) = plan {
-                        *w = sperling_with(plan.as_ref(), acc, dt, *dir, &mut buf);
-                    }
-                }
-            });
+        for ((records, plans), out) in chunks {
+            scope.spawn(move || run(records, plans, out));
+        }
+        if let Some(((records, plans), out)) = first {
+            run(records, plans, out);
         }
     });
     out
@@ -439,13 +450,7 @@ mod tests {
             rows.push_str(&format!("{:e}", k as f64));
             for (f, &(p0, b)) in f.iter().zip(&layout.wheelsets) {
                 let l = WheelLoads::from_force(f, p0, b);
-                expected.derail_factor_max = expected.derail_factor_max.max(l.derail.abs());
-                expected.offload_factor_max = expected.offload_factor_max.max(l.offload.abs());
-                expected.derail_factor_wheel_max =
-                    expected.derail_factor_wheel_max.max(l.derail_wheel.abs());
-                expected.offload_factor_wheel_max =
-                    expected.offload_factor_wheel_max.max(l.offload_wheel.abs());
-                expected.lateral_force_max_n = expected.lateral_force_max_n.max(l.q.abs());
+                expected.include(&l);
                 for v in [f.x, f.z, f.y, l.derail, l.offload] {
                     rows.push_str(&format!(",{v:e}"));
                 }
