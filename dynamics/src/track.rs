@@ -19,6 +19,12 @@ pub trait RailProfile: Send + Sync + Debug {
     /// the x-derivative of the rail acceleration `v² r″` a wheelset sees
     /// ([`rail_motion_slope`]).
     fn third_derivative(&self, x: f64) -> Vector3<f64>;
+
+    /// Whether the profile is zero everywhere (the ideal track), so that [`Self::at`] gives
+    /// zeros at every `x` and a caller may leave it out. Default: false.
+    fn is_flat(&self) -> bool {
+        false
+    }
 }
 
 /// A perfectly smooth track.
@@ -32,6 +38,10 @@ impl RailProfile for Smooth {
 
     fn third_derivative(&self, _x: f64) -> Vector3<f64> {
         Vector3::zeros()
+    }
+
+    fn is_flat(&self) -> bool {
+        true
     }
 }
 
@@ -83,5 +93,9 @@ impl RailProfile for tbi_track::Irregularity {
             }
             None => Vector3::zeros(),
         }
+    }
+
+    fn is_flat(&self) -> bool {
+        matches!(self, tbi_track::Irregularity::None)
     }
 }

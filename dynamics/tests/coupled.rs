@@ -326,3 +326,56 @@ fn eccentric_train_twists_the_deck_as_the_moving_torque_series() {
         "two coaches: peak θ(L/2) {peak_c:e} rad vs series {reference_peak:e} rad"
     );
 }
+
+/// A profile that is zero everywhere without saying so ([`RailProfile::is_flat`] left false),
+/// so the solver evaluates it at every wheelset and step.
+#[derive(Debug)]
+struct ZeroNotFlagged;
+
+impl tbi_dynamics::track::RailProfile for ZeroNotFlagged {
+    fn at(&self, _x: f64) -> tbi_dynamics::track::RailIrregularity {
+        Default::default()
+    }
+
+    fn third_derivative(&self, _x: f64) -> nalgebra::Vector3<f64> {
+        nalgebra::Vector3::zeros()
+    }
+}
+
+/// On the ideal track the solver leaves out the zero prescribed rail motion unless the
+/// wheelsets hunt: two coaches crossing the bridge (onto it, over it and off it), with and
+/// without hunting, give bit for bit the run of a zero profile evaluated everywhere.
+#[test]
+fn the_ideal_track_left_out_gives_the_run_of_a_zero_profile() {
+    let mut runs = Vec::new();
+    for amplitude_m in [0.0, 0.003] {
+        let run = |track: Arc<dyn tbi_dynamics::track::RailProfile>| {
+            let mut train = two_coaches(160.0 / 3.6, -40.0, false);
+            let n = train.wheelsets().len();
+            let params = tbi_track::HuntingParams {
+                amplitude_m,
+                ..Default::default()
+            };
+            train.hunting = tbi_track::WheelHunting::new(&params, n).unwrap();
+            let mut sol = Monolithic::new(bridge_3d(2.05, 1.25, 0.02), train, track, 2e-3);
+            let mut bits = Vec::new();
+            while sol.t < 3.0 {
+                sol.step();
+                bits.extend(sol.q.iter().map(|v| v.to_bits()));
+                bits.extend(sol.vehicles[1].v.iter().map(|v| v.to_bits()));
+                for f in &sol.forces {
+                    bits.extend(f.iter().map(|v| v.to_bits()));
+                }
+            }
+            bits
+        };
+        let (flat, evaluated) = (run(Arc::new(Smooth)), run(Arc::new(ZeroNotFlagged)));
+        assert_eq!(flat.len(), evaluated.len());
+        assert!(flat == evaluated, "hunting amplitude {amplitude_m} m");
+        runs.push(flat);
+    }
+    use tbi_dynamics::track::RailProfile;
+    assert!(Smooth.is_flat() && !ZeroNotFlagged.is_flat());
+    // the hunting is felt, so leaving it out would have been seen
+    assert!(runs[0] != runs[1]);
+}

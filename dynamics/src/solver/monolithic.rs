@@ -193,10 +193,16 @@ impl Monolithic {
     /// Positions, Ψ and prescribed rail motion at time `t`.
     fn update_geometry(&mut self, t: f64) {
         let nb = self.q.len();
+        // on the ideal track without hunting the prescribed motion is zero everywhere
+        let flat = self.track.is_flat() && !self.train.hunting.is_active();
         for (w, ws) in self.wheelsets.iter().enumerate() {
             let x = self.train.x_at(ws.offset_m, t);
             self.x[w] = x;
-            self.presc[w] = rail_prescribed(&*self.track, &self.train, w, x, t);
+            self.presc[w] = if flat {
+                [Vector3::zeros(); 3]
+            } else {
+                rail_prescribed(&*self.track, &self.train, w, x, t)
+            };
         }
         let lanes = &mut self.work.lanes;
         for ((xs, on), psi) in self
