@@ -379,3 +379,89 @@ fn the_ideal_track_left_out_gives_the_run_of_a_zero_profile() {
     // the hunting is felt, so leaving it out would have been seen
     assert!(runs[0] != runs[1]);
 }
+
+/// Moving forces off the deck of the ideal track are left out of the steps: a train of
+/// moving forces with a sprung mass among them, crossing onto, over and off the bridge,
+/// gives bit for bit the run in which every wheelset is visited (a zero profile not
+/// flagged flat keeps them all busy), including the wheelset forces and what the recorder
+/// takes from the samples.
+#[test]
+fn moving_forces_off_the_deck_left_out_give_the_run_of_all_wheelsets() {
+    use tbi_dynamics::response::{Layout, Recorder};
+    use tbi_dynamics::solver::sample::ProbeShapes;
+    use tbi_dynamics::vehicle::simple::{moving_force, sprung_mass, SprungMassAxle};
+    let run = |track: Arc<dyn tbi_dynamics::track::RailProfile>, leave_out: bool| {
+        let sprung = sprung_mass(&SprungMassAxle {
+            offset_m: 0.0,
+            sprung_mass_kg: 8.0e3,
+            stiffness_n_m: 2.0e6,
+            damping_ns_m: 1.0e4,
+            wheel_mass_kg: 1.0e3,
+        })
+        .unwrap();
+        let mut vehicles: Vec<_> = [0.0, 3.0, 17.0, 20.0, 35.0, 38.0]
+            .iter()
+            .map(|&o| (moving_force(1.7e5), o))
+            .collect();
+        vehicles.insert(3, (sprung, 18.5));
+        let train = train_of(vehicles, 80.0, -10.0);
+        let bridge = bridge_3d(2.05, 1.25, 0.02);
+        let probes = ProbeShapes::new(&bridge, &[30.0]);
+        let layout = Layout {
+            probe_names: vec!["mid".into()],
+            vehicles: vec![[false, false]; train.vehicles.len()],
+            wheelsets: vec![(1.7e5, 1.5); train.wheelsets().len()],
+        };
+        let text = Text::default();
+        let mut rec = Recorder::new(layout, &[30.0], Some(text.clone())).unwrap();
+        let mut sol = Monolithic::new(bridge, train, track, 1e-3);
+        let mut bits = Vec::new();
+        let mut k = 0;
+        while sol.t < 1.6 {
+            sol.step();
+            let mut sample = sol.sample(&probes);
+            if !leave_out {
+                // and the recorder looks at every wheelset's force
+                sample.forces_varying = None;
+            }
+            rec.record(&sample, k % 7 == 0).unwrap();
+            k += 1;
+            bits.extend(sol.q.iter().chain(&sol.qdd).map(|v| v.to_bits()));
+            bits.extend(sol.vehicles[3].v.iter().map(|v| v.to_bits()));
+            for (f, r) in sol.forces.iter().zip(&sol.rail) {
+                bits.extend(
+                    f.iter()
+                        .chain(r.iter().flat_map(|d| d.iter()))
+                        .map(|v| v.to_bits()),
+                );
+            }
+        }
+        rec.finish().unwrap();
+        let rows = text.0.borrow().clone();
+        (bits, format!("{:?} {:?}", rec.safety, rec.probes), rows)
+    };
+    let (left_out, all) = (
+        run(Arc::new(Smooth), true),
+        run(Arc::new(ZeroNotFlagged), false),
+    );
+    assert!(left_out.0 == all.0, "states, forces and rail motion");
+    assert_eq!(left_out.1, all.1, "maxima");
+    assert!(left_out.2 == all.2, "history rows");
+    assert!(left_out.2.len() > 10_000);
+    assert!(left_out.1.contains("derail"));
+}
+
+/// A history writer whose text the test reads afterwards.
+#[derive(Clone, Default)]
+struct Text(std::rc::Rc<std::cell::RefCell<Vec<u8>>>);
+
+impl std::io::Write for Text {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}

@@ -90,6 +90,11 @@ pub struct Monolithic {
     first_ws: Vec<usize>,
     /// Per wheelset, what its force on the rail needs (for the outputs).
     wheel_forces: Vec<WheelForce>,
+    /// Per wheelset: a moving force (its vehicle has no DOFs, its force is constant), which
+    /// off the deck of an ideal track changes nothing from step to step.
+    inert: Vec<bool>,
+    /// The wheelsets that are not [`Monolithic::inert`], ascending.
+    varying: Vec<usize>,
     on: Vec<bool>,
     work: Work,
 }
@@ -128,7 +133,17 @@ impl Monolithic {
                 WheelForce::of(ws.vehicle, c)
             })
             .collect();
+        let inert = wheelsets
+            .iter()
+            .zip(&wheel_forces)
+            .map(|(ws, f): (&WheelsetRef, &WheelForce)| {
+                train.vehicles[ws.vehicle].model.ndof() == 0 && f.constant
+            })
+            .collect::<Vec<bool>>();
+        let varying = (0..nw).filter(|&w| !inert[w]).collect();
         let mut s = Monolithic {
+            inert,
+            varying,
             buffeting,
             omega: bridge.omegas(),
             zeta: bridge.damping.clone(),
@@ -185,38 +200,84 @@ impl Monolithic {
         self.nm.h
     }
 
+    /// The wheelsets whose force can change (all but the moving forces), into `out`.
+    pub(crate) fn forces_varying_into(&self, out: &mut Option<Vec<usize>>) {
+        out.get_or_insert_with(Vec::new).clone_from(&self.varying);
+    }
+
     fn psi_w(&self, w: usize) -> &[[f64; 3]] {
         let nb = self.q.len();
         &self.psi[w * nb..(w + 1) * nb]
     }
 
-    /// Positions, Ψ and prescribed rail motion at time `t`.
+    /// Positions, Ψ and prescribed rail motion at time `t`, and the wheelsets and vehicles
+    /// the step has to visit (`work.busy`, `work.busy_vehicles`).
+    ///
+    /// A moving force ([`Monolithic::inert`]) that is off the deck of an ideal track (no
+    /// irregularity, no hunting) at `t` and was so at the step before has zero shapes, zero
+    /// rail motion and its constant force already: it is left out (an HSLM train on a short
+    /// span has most of its axles there). Every other wheelset is busy.
     fn update_geometry(&mut self, t: f64) {
         let nb = self.q.len();
         // on the ideal track without hunting the prescribed motion is zero everywhere
         let flat = self.track.is_flat() && !self.train.hunting.is_active();
+        let idle_allowed = flat && self.work.flat_before;
+        self.work.flat_before = flat;
+        let busy = &mut self.work.busy;
+        busy.clear();
         for (w, ws) in self.wheelsets.iter().enumerate() {
             let x = self.train.x_at(ws.offset_m, t);
             self.x[w] = x;
+            if idle_allowed && self.inert[w] && !self.on[w] && !self.bridge.on_deck(x) {
+                continue;
+            }
+            busy.push(w);
             self.presc[w] = if flat {
                 [Vector3::zeros(); 3]
             } else {
                 rail_prescribed(&*self.track, &self.train, w, x, t)
             };
         }
+        // the busy wheelsets' shapes, SHAPE_LANES at a time (each lane's shapes are those
+        // of a lane alone)
         let lanes = &mut self.work.lanes;
-        for ((xs, on), psi) in self
-            .x
-            .chunks(SHAPE_LANES)
-            .zip(self.on.chunks_mut(SHAPE_LANES))
-            .zip(self.psi.chunks_mut(SHAPE_LANES * nb))
-        {
+        let mut rest = &mut self.psi[..];
+        let mut base = 0;
+        for chunk in busy.chunks(SHAPE_LANES) {
             let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
-            for (o, p) in outs.iter_mut().zip(psi.chunks_mut(nb)) {
-                *o = p;
+            let mut xs = [0.0; SHAPE_LANES];
+            for ((o, x), &w) in outs.iter_mut().zip(&mut xs).zip(chunk) {
+                let tail = std::mem::take(&mut rest).split_at_mut((w - base) * nb).1;
+                let (this, tail) = tail.split_at_mut(nb);
+                (*o, rest, base) = (this, tail, w + 1);
+                *x = self.x[w];
             }
+            let mut on = [false; SHAPE_LANES];
+            let m = chunk.len();
             self.bridge
-                .rail_shapes_lanes(xs, &mut outs[..xs.len()], on, lanes);
+                .rail_shapes_lanes(&xs[..m], &mut outs[..m], &mut on[..m], lanes);
+            for (&w, on) in chunk.iter().zip(on) {
+                self.on[w] = on;
+            }
+        }
+        // the vehicles of the busy wheelsets, and those with DOFs but no wheelsets
+        let vehicles = &mut self.work.busy_vehicles;
+        vehicles.clear();
+        let mut next = 0;
+        for &w in busy.iter() {
+            let v = self.wheelsets[w].vehicle;
+            while next <= v {
+                let tv = &self.train.vehicles[next];
+                if next == v || (tv.model.ndof() > 0 && tv.model.wheelsets.is_empty()) {
+                    vehicles.push(next);
+                }
+                next += 1;
+            }
+        }
+        for (i, tv) in self.train.vehicles.iter().enumerate().skip(next) {
+            if tv.model.ndof() > 0 && tv.model.wheelsets.is_empty() {
+                vehicles.push(i);
+            }
         }
     }
 
@@ -258,21 +319,34 @@ impl Monolithic {
     /// The deck's part `(Ψ q, Ψ q̇, Ψ q̈)` of the rail motion under every wheelset (zero off
     /// the deck) at the current modal state, into `out`.
     fn deck_motion_into(&self, out: &mut Vec<[Vector3<f64>; 3]>) {
+        let all: Vec<usize> = (0..self.wheelsets.len()).collect();
+        self.deck_motion_of(&all, out);
+    }
+
+    /// [`Self::deck_motion_into`] of the wheelsets `busy` (the other entries of `out` are
+    /// left as they are; `out` gets one entry per wheelset).
+    fn deck_motion_of(&self, busy: &[usize], out: &mut Vec<[Vector3<f64>; 3]>) {
         let (q, qd, qdd) = (self.q.as_slice(), self.qd.as_slice(), self.qdd.as_slice());
-        out.clear();
-        out.extend((0..self.wheelsets.len()).map(|w| {
-            if self.on[w] {
+        out.resize(self.wheelsets.len(), [Vector3::zeros(); 3]);
+        for &w in busy {
+            out[w] = if self.on[w] {
                 psi_mul3(self.psi_w(w), q, qd, qdd)
             } else {
                 [Vector3::zeros(); 3]
-            }
-        }));
+            };
+        }
     }
 
     /// Rail motion and wheel forces at the current state, the deck's part of the rail motion
     /// given ([`Self::deck_motion_into`]).
     fn finish_outputs(&mut self, deck: &[[Vector3<f64>; 3]]) {
-        for w in 0..self.wheelsets.len() {
+        let all: Vec<usize> = (0..self.wheelsets.len()).collect();
+        self.finish_outputs_of(&all, deck);
+    }
+
+    /// [`Self::finish_outputs`] of the wheelsets `busy` (the others keep theirs).
+    fn finish_outputs_of(&mut self, busy: &[usize], deck: &[[Vector3<f64>; 3]]) {
+        for &w in busy {
             let p = self.presc[w];
             let [u, ud, udd] = if self.on[w] {
                 let [a, b, c] = deck[w];
@@ -304,8 +378,8 @@ impl Monolithic {
         if let Some(b) = &self.buffeting {
             b.add_modal_force(t1, w.bq.as_mut_slice());
         }
-        for (i, tv) in self.train.vehicles.iter().enumerate() {
-            let model = &tv.model;
+        for &i in &w.busy_vehicles {
+            let model = &self.train.vehicles[i].model;
             let cache = &self.cache[i];
             let vs = &self.vehicles[i];
             let f0 = self.first_ws[i];
@@ -378,9 +452,10 @@ impl Monolithic {
         }
         self.q.copy_from(q1);
         // The deck's rail motion at the new state, once: its Ψ q₁ serves the back-substitution.
-        self.deck_motion_into(&mut w.deck);
-        // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1.
-        for (i, tv) in self.train.vehicles.iter().enumerate() {
+        self.deck_motion_of(&w.busy, &mut w.deck);
+        // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1 (a vehicle with DOFs is busy).
+        for &i in &w.busy_vehicles {
+            let tv = &self.train.vehicles[i];
             let n = tv.model.ndof();
             if n == 0 {
                 continue;
@@ -401,13 +476,15 @@ impl Monolithic {
             self.vehicles[i].newmark_update(&nm, v1);
         }
         self.t = t1;
-        self.finish_outputs(&w.deck);
+        self.finish_outputs_of(&w.busy, &w.deck);
         self.work = w;
     }
 
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled).
+    #[allow(clippy::too_many_arguments)]
     fn apply_reduced_with(
         &self,
+        vehicles: &[usize],
         dhat: &DVector<f64>,
         x: &[f64],
         y: &mut [f64],
@@ -418,9 +495,9 @@ impl Monolithic {
         for n in 0..nb {
             y[n] = dhat[n] * x[n];
         }
-        for (i, tv) in self.train.vehicles.iter().enumerate() {
+        for &i in vehicles {
             let f0 = self.first_ws[i];
-            let nwi = tv.model.wheelsets.len();
+            let nwi = self.train.vehicles[i].model.wheelsets.len();
             let cache = &self.cache[i];
             if cache.s_rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
                 continue;
@@ -478,6 +555,7 @@ impl Monolithic {
             cg_t: tmp,
             ux,
             sx,
+            busy_vehicles,
             ..
         } = w;
         let inverse = pre.as_ref().filter(|_| lagged);
@@ -497,7 +575,7 @@ impl Monolithic {
         if bq.amax() == 0.0 {
             return true;
         }
-        self.apply_reduced_with(dhat, x.as_slice(), ap.as_mut_slice(), ux, sx);
+        self.apply_reduced_with(busy_vehicles, dhat, x.as_slice(), ap.as_mut_slice(), ux, sx);
         r.copy_from(bq);
         *r -= &*ap;
         z.copy_from(r);
@@ -525,7 +603,7 @@ impl Monolithic {
                 }
                 return true;
             }
-            self.apply_reduced_with(dhat, p.as_slice(), ap.as_mut_slice(), ux, sx);
+            self.apply_reduced_with(busy_vehicles, dhat, p.as_slice(), ap.as_mut_slice(), ux, sx);
             let pap = p.dot(ap);
             if pap <= 0.0 {
                 w.pre = None;
@@ -564,9 +642,9 @@ impl Monolithic {
             a[n * nb + n] = w.dhat[n];
         }
         let (mut u, mut su) = (Vec::new(), Vec::new());
-        for (i, tv) in self.train.vehicles.iter().enumerate() {
+        for &i in &w.busy_vehicles {
             let f0 = self.first_ws[i];
-            let nwi = tv.model.wheelsets.len();
+            let nwi = self.train.vehicles[i].model.wheelsets.len();
             let rows = &self.cache[i].s_rows;
             if rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
                 continue;
@@ -817,6 +895,11 @@ struct Work {
     lanes: Vec<[f64; SHAPE_LANES]>,
     /// The deck's part of the rail motion under each wheelset at the end of the step.
     deck: Vec<[Vector3<f64>; 3]>,
+    /// The wheelsets and vehicles the step visits, ascending ([`Monolithic::update_geometry`]).
+    busy: Vec<usize>,
+    busy_vehicles: Vec<usize>,
+    /// Whether the prescribed rail motion was zero everywhere at the last geometry update.
+    flat_before: bool,
 }
 
 impl Work {
@@ -858,6 +941,9 @@ impl Work {
             z: per(&|m| 3 * m.wheelsets.len()),
             lanes: Vec::new(),
             deck: Vec::new(),
+            busy: Vec::new(),
+            busy_vehicles: Vec::new(),
+            flat_before: false,
         }
     }
 }

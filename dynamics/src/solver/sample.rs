@@ -62,5 +62,6 @@ impl Monolithic {
                 }),
         );
         out.forces.clone_from(&self.forces);
+        self.forces_varying_into(&mut out.forces_varying);
     }
 }
