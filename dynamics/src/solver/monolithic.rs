@@ -95,6 +95,8 @@ pub struct Monolithic {
     inert: Vec<bool>,
     /// The wheelsets that are not [`Monolithic::inert`], ascending.
     varying: Vec<usize>,
+    /// The vehicles without wheelsets (stepped though no wheelset makes them busy).
+    loose: Vec<usize>,
     on: Vec<bool>,
     work: Work,
 }
@@ -141,9 +143,14 @@ impl Monolithic {
             })
             .collect::<Vec<bool>>();
         let varying = (0..nw).filter(|&w| !inert[w]).collect();
+        let loose = (train.vehicles.iter().enumerate())
+            .filter(|(_, tv)| tv.model.wheelsets.is_empty())
+            .map(|(i, _)| i)
+            .collect();
         let mut s = Monolithic {
             inert,
             varying,
+            loose,
             buffeting,
             omega: bridge.omegas(),
             zeta: bridge.damping.clone(),
@@ -260,25 +267,18 @@ impl Monolithic {
                 self.on[w] = on;
             }
         }
-        // the vehicles of the busy wheelsets, and those with DOFs but no wheelsets
+        // the vehicles of the busy wheelsets and those without wheelsets, ascending
         let vehicles = &mut self.work.busy_vehicles;
         vehicles.clear();
-        let mut next = 0;
+        let mut loose = self.loose.iter().copied().peekable();
         for &w in busy.iter() {
             let v = self.wheelsets[w].vehicle;
-            while next <= v {
-                let tv = &self.train.vehicles[next];
-                if next == v || (tv.model.ndof() > 0 && tv.model.wheelsets.is_empty()) {
-                    vehicles.push(next);
-                }
-                next += 1;
+            vehicles.extend(std::iter::from_fn(|| loose.next_if(|&l| l < v)));
+            if vehicles.last() != Some(&v) {
+                vehicles.push(v);
             }
         }
-        for (i, tv) in self.train.vehicles.iter().enumerate().skip(next) {
-            if tv.model.ndof() > 0 && tv.model.wheelsets.is_empty() {
-                vehicles.push(i);
-            }
-        }
+        vehicles.extend(loose);
     }
 
     fn initial_bridge_acceleration(&mut self) {
