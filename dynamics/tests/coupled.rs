@@ -343,8 +343,9 @@ impl tbi_dynamics::track::RailProfile for ZeroNotFlagged {
 }
 
 /// On the ideal track the solver leaves out the zero prescribed rail motion unless the
-/// wheelsets hunt: two coaches crossing the bridge (onto it, over it and off it), with and
-/// without hunting, give bit for bit the run of a zero profile evaluated everywhere.
+/// wheelsets hunt (and the coaches at rest before the bridge): two coaches crossing the
+/// bridge (onto it, over it and off it), with and without hunting, give bit for bit the run
+/// of a zero profile evaluated everywhere.
 #[test]
 fn the_ideal_track_left_out_gives_the_run_of_a_zero_profile() {
     let mut runs = Vec::new();
@@ -380,11 +381,12 @@ fn the_ideal_track_left_out_gives_the_run_of_a_zero_profile() {
     assert!(runs[0] != runs[1]);
 }
 
-/// Moving forces off the deck of the ideal track are left out of the steps: a train of
-/// moving forces with a sprung mass among them, crossing onto, over and off the bridge,
-/// gives bit for bit the run in which every wheelset is visited (a zero profile not
-/// flagged flat keeps them all busy), including the wheelset forces and what the recorder
-/// takes from the samples.
+/// Moving forces off the deck of the ideal track, and vehicles at rest there, are left out
+/// of the steps: a train of moving forces with a sprung mass among them (at rest until it
+/// reaches the bridge, vibrating after it), crossing onto, over and off the bridge, gives
+/// bit for bit the run in which every wheelset is visited (a zero profile not flagged flat
+/// keeps them all busy), including the wheelset forces and what the recorder takes from the
+/// samples.
 #[test]
 fn moving_forces_off_the_deck_left_out_give_the_run_of_all_wheelsets() {
     use tbi_dynamics::response::{Layout, Recorder};

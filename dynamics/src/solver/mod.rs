@@ -100,13 +100,23 @@ impl VehicleState {
     }
 
     /// Newmark update to the new displacement `v1`.
-    pub fn newmark_update(&mut self, nm: &Newmark, v1: &DVector<f64>) {
+    ///
+    /// Returns whether any of `v`, `v̇`, `v̈` changed (bit for bit).
+    pub fn newmark_update(&mut self, nm: &Newmark, v1: &DVector<f64>) -> bool {
+        let mut changed = false;
         for i in 0..v1.len() {
             let (d, a) = nm.update(v1[i], self.v[i], self.vd[i], self.vdd[i]);
+            changed |= (v1[i].to_bits(), d.to_bits(), a.to_bits())
+                != (
+                    self.v[i].to_bits(),
+                    self.vd[i].to_bits(),
+                    self.vdd[i].to_bits(),
+                );
             self.vd[i] = d;
             self.vdd[i] = a;
         }
         self.v.copy_from(v1);
+        changed
     }
 }
 

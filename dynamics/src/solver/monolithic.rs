@@ -220,22 +220,44 @@ impl Monolithic {
     /// Positions, Ψ and prescribed rail motion at time `t`, and the wheelsets and vehicles
     /// the step has to visit (`work.busy`, `work.busy_vehicles`).
     ///
-    /// A moving force ([`Monolithic::inert`]) that is off the deck of an ideal track (no
-    /// irregularity, no hunting) at `t` and was so at the step before has zero shapes, zero
-    /// rail motion and its constant force already: it is left out (an HSLM train on a short
-    /// span has most of its axles there). Every other wheelset is busy.
+    /// On the deck of an ideal track (no irregularity, no hunting), a wheelset that is off
+    /// the deck at `t` and was so at the step before is left out (idle) when it is a moving
+    /// force ([`Monolithic::inert`]: zero shapes, zero rail motion and its constant force
+    /// already) or when its vehicle is at rest there: the vehicle's last step, off the deck
+    /// and without wind on the train, left its state bit for bit as it was, so this step,
+    /// with the same inputs, would too (the vehicles of a train that has not reached the
+    /// bridge yet). An HSLM train on a short span has most of its axles off the deck. Every
+    /// other wheelset is busy.
     fn update_geometry(&mut self, t: f64) {
         let nb = self.q.len();
         // on the ideal track without hunting the prescribed motion is zero everywhere
         let flat = self.track.is_flat() && !self.train.hunting.is_active();
         let idle_allowed = flat && self.work.flat_before;
         self.work.flat_before = flat;
+        for (w, ws) in self.wheelsets.iter().enumerate() {
+            self.x[w] = self.train.x_at(ws.offset_m, t);
+        }
+        // the vehicles at rest that stay off the deck
+        let rest = &mut self.work.rest_now;
+        rest.clear();
+        rest.resize(self.train.vehicles.len(), false);
+        if idle_allowed {
+            for (i, tv) in self.train.vehicles.iter().enumerate() {
+                let f0 = self.first_ws[i];
+                rest[i] = self.work.resting[i]
+                    && (f0..f0 + tv.model.wheelsets.len())
+                        .all(|w| !self.on[w] && !self.bridge.on_deck(self.x[w]));
+            }
+        }
         let busy = &mut self.work.busy;
         busy.clear();
         for (w, ws) in self.wheelsets.iter().enumerate() {
-            let x = self.train.x_at(ws.offset_m, t);
-            self.x[w] = x;
-            if idle_allowed && self.inert[w] && !self.on[w] && !self.bridge.on_deck(x) {
+            let x = self.x[w];
+            if idle_allowed
+                && !self.on[w]
+                && !self.bridge.on_deck(x)
+                && (self.inert[w] || rest[ws.vehicle])
+            {
                 continue;
             }
             busy.push(w);
@@ -473,7 +495,12 @@ impl Monolithic {
             v1.copy_from(&w.bv[i]);
             chol.solve_mut(v1.as_mut_slice());
             v1.gemv_tr(-1.0, &cache.h, uq, 1.0);
-            self.vehicles[i].newmark_update(&nm, v1);
+            let changed = self.vehicles[i].newmark_update(&nm, v1);
+            // at rest: the same inputs (no deck, no prescribed motion, no wind) next step
+            w.resting[i] = !changed
+                && w.flat_before
+                && self.train.wind.is_none()
+                && (f0..f0 + nwi).all(|ws| !self.on[ws]);
         }
         self.t = t1;
         self.finish_outputs_of(&w.busy, &w.deck);
@@ -900,6 +927,10 @@ struct Work {
     busy_vehicles: Vec<usize>,
     /// Whether the prescribed rail motion was zero everywhere at the last geometry update.
     flat_before: bool,
+    /// Per vehicle: its last step left its state bit for bit the same, off the deck of an
+    /// ideal track without wind on the train; and whether it stays so in this step.
+    resting: Vec<bool>,
+    rest_now: Vec<bool>,
 }
 
 impl Work {
@@ -944,6 +975,8 @@ impl Work {
             busy: Vec::new(),
             busy_vehicles: Vec::new(),
             flat_before: false,
+            resting: vec![false; train.vehicles.len()],
+            rest_now: Vec::new(),
         }
     }
 }
