@@ -55,6 +55,31 @@ impl ReadRun {
     }
 }
 
+/// The first of `n` consecutive indices that `indices` is, if it is such a run.
+fn run_start(indices: impl Iterator<Item = usize>) -> Option<usize> {
+    let mut start = None;
+    for (k, i) in indices.enumerate() {
+        match start {
+            None => start = Some(i),
+            Some(s) if i == s + k => {}
+            Some(_) => return None,
+        }
+    }
+    start
+}
+
+/// Runs of a participant's inputs and outputs that are copied at once instead of element by
+/// element ([`run_start`] of their unknowns and slots; None where they are no run).
+#[derive(Debug, Clone, Default)]
+struct Runs {
+    /// Every input fed by unknown `u0 + k`, input k.
+    inputs_from_unknowns: Option<usize>,
+    /// Every input from slot `s0 + k` and none from an unknown.
+    inputs_from_slots: Option<usize>,
+    /// Output k (of `out_vrs`) into slot `s0 + k`, read as position k of the run.
+    outputs_to_slots: Option<usize>,
+}
+
 /// The connection topology of a [`System`] compiled into per-participant batches.
 #[derive(Debug, Clone)]
 pub(crate) struct Exchange {
@@ -63,6 +88,10 @@ pub(crate) struct Exchange {
     pub(super) out_slots: Vec<Vec<usize>>,
     /// Per participant, how its outputs are read (a run, or as they are).
     out_runs: Vec<ReadRun>,
+    /// Per participant, what is copied at once.
+    runs: Vec<Runs>,
+    /// The first slot of the unknowns' slots when they are consecutive.
+    feedback_run: Option<usize>,
     run_values: Vec<f64>,
     /// Input value references written to each participant, and where each takes its value.
     pub(super) in_vrs: Vec<Vec<u32>>,
@@ -90,6 +119,8 @@ impl Exchange {
             out_vrs: vec![Vec::new(); np],
             out_slots: vec![Vec::new(); np],
             out_runs: Vec::new(),
+            runs: Vec::new(),
+            feedback_run: None,
             run_values: Vec::new(),
             in_vrs: vec![Vec::new(); np],
             in_routes: vec![Vec::new(); np],
@@ -148,10 +179,62 @@ impl Exchange {
             ex.in_routes[c.to].push(Route { slot, unknown });
         }
         ex.values = vec![0.0; ex.slot_source.len()];
+        ex.number_slots_by_participant();
         ex.out_runs = (0..np)
             .map(|p| ReadRun::of(sys, p, &ex.out_vrs[p]))
             .collect();
+        ex.runs = (0..np)
+            .map(|p| {
+                let routes = &ex.in_routes[p];
+                let run = &ex.out_runs[p];
+                let at_identity = run.at.iter().enumerate().all(|(k, &i)| i == k);
+                Runs {
+                    inputs_from_unknowns: if routes.iter().all(|r| r.unknown.is_some()) {
+                        run_start(routes.iter().filter_map(|r| r.unknown))
+                    } else {
+                        None
+                    },
+                    inputs_from_slots: if routes.iter().all(|r| r.unknown.is_none()) {
+                        run_start(routes.iter().map(|r| r.slot))
+                    } else {
+                        None
+                    },
+                    outputs_to_slots: if at_identity {
+                        run_start(ex.out_slots[p].iter().copied())
+                    } else {
+                        None
+                    },
+                }
+            })
+            .collect();
+        ex.feedback_run = run_start(ex.feedback_slots.iter().copied());
         Ok(ex)
+    }
+
+    /// Numbers the slots participant by participant, each one's in the order of its
+    /// `out_vrs`, so that a participant's outputs, and inputs fed from one participant's
+    /// outputs in their order, are runs of slots ([`Runs`]).
+    fn number_slots_by_participant(&mut self) {
+        let mut new_of = vec![0; self.slot_source.len()];
+        for (k, &old) in self.out_slots.iter().flatten().enumerate() {
+            new_of[old] = k;
+        }
+        let mut source = self.slot_source.clone();
+        let mut unit = self.slot_unit.clone();
+        for (old, &new) in new_of.iter().enumerate() {
+            source[new] = self.slot_source[old];
+            unit[new] = self.slot_unit[old].take();
+        }
+        (self.slot_source, self.slot_unit) = (source, unit);
+        for s in self.out_slots.iter_mut().flatten() {
+            *s = new_of[*s];
+        }
+        for r in self.in_routes.iter_mut().flatten() {
+            r.slot = new_of[r.slot];
+        }
+        for s in &mut self.feedback_slots {
+            *s = new_of[*s];
+        }
     }
 
     /// Compile the plan for `sys` and pass the current outputs to the inputs once (the
@@ -207,8 +290,16 @@ impl Exchange {
                 )));
             }
         }
-        for (&slot, &i) in self.out_slots[p].iter().zip(&run.at) {
-            self.values[slot] = values[i];
+        match self.runs[p].outputs_to_slots {
+            Some(s0) => {
+                let n = self.out_slots[p].len();
+                self.values[s0..s0 + n].copy_from_slice(&values[..n]);
+            }
+            None => {
+                for (&slot, &i) in self.out_slots[p].iter().zip(&run.at) {
+                    self.values[slot] = values[i];
+                }
+            }
         }
         Ok(())
     }
@@ -230,14 +321,34 @@ impl Exchange {
         if vrs.is_empty() {
             return Ok(());
         }
-        self.scratch.clear();
-        self.scratch
-            .extend(self.in_routes[p].iter().map(|r| match (r.unknown, x) {
-                (Some(u), Some(x)) => x[u],
-                _ => self.values[r.slot],
-            }));
+        let n = vrs.len();
+        let values: &[f64] = match (x, &self.runs[p]) {
+            (
+                Some(x),
+                Runs {
+                    inputs_from_unknowns: Some(u0),
+                    ..
+                },
+            ) => &x[*u0..u0 + n],
+            (
+                _,
+                Runs {
+                    inputs_from_slots: Some(s0),
+                    ..
+                },
+            ) => &self.values[*s0..s0 + n],
+            _ => {
+                self.scratch.clear();
+                self.scratch
+                    .extend(self.in_routes[p].iter().map(|r| match (r.unknown, x) {
+                        (Some(u), Some(x)) => x[u],
+                        _ => self.values[r.slot],
+                    }));
+                &self.scratch
+            }
+        };
         let part = &mut sys.participants[p];
-        part.set_real(vrs, &self.scratch)
+        part.set_real(vrs, values)
             .map_err(|e| CouplingError::new(format!("{}: set_real failed: {e}", part.name())))
     }
 
@@ -273,7 +384,10 @@ impl Exchange {
     /// Copies the current values of the interface unknowns into `x`.
     pub fn feedback_values(&self, x: &mut Vec<f64>) {
         x.clear();
-        x.extend(self.feedback_slots.iter().map(|&s| self.values[s]));
+        match self.feedback_run {
+            Some(s0) => x.extend_from_slice(&self.values[s0..s0 + self.feedback_slots.len()]),
+            None => x.extend(self.feedback_slots.iter().map(|&s| self.values[s])),
+        }
     }
 }
 
@@ -289,19 +403,27 @@ mod tests {
     use std::cell::RefCell;
     use std::rc::Rc;
 
-    /// Outputs `vr ↦ 10 vr` (NaN for those in `nan`); the value references it declares; the
-    /// lists it was asked for.
+    /// The `(vr, value)` of every input a table was given, in order.
+    type Given = Rc<RefCell<Vec<(u32, f64)>>>;
+
+    /// Outputs `vr ↦ offset + 10 vr` (NaN for those in `nan`); the value references it
+    /// declares; the lists it was asked for; the inputs it was given.
+    #[derive(Default)]
     struct Table {
         declared: Vec<u32>,
         nan: Vec<u32>,
+        offset: f64,
         asked: Rc<RefCell<Vec<Vec<u32>>>>,
+        given: Given,
     }
 
     impl Participant for Table {
         fn name(&self) -> &str {
             "table"
         }
-        fn set_real(&mut self, _vrs: &[u32], _values: &[f64]) -> Result<(), CouplingError> {
+        fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), CouplingError> {
+            let mut given = self.given.borrow_mut();
+            given.extend(vrs.iter().copied().zip(values.iter().copied()));
             Ok(())
         }
         fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
@@ -313,7 +435,7 @@ mod tests {
                 *v = if self.nan.contains(&vr) {
                     f64::NAN
                 } else {
-                    10.0 * vr as f64
+                    self.offset + 10.0 * vr as f64
                 };
             }
             Ok(())
@@ -350,12 +472,9 @@ mod tests {
             declared,
             nan,
             asked: asked.clone(),
+            ..Default::default()
         };
-        let sink = Table {
-            declared: Vec::new(),
-            nan: Vec::new(),
-            asked: Rc::default(),
-        };
+        let sink = Table::default();
         let connections = (from_vrs.iter().enumerate())
             .map(|(i, &vr)| Connection {
                 from: 0,
@@ -406,5 +525,76 @@ mod tests {
         let (values, asked) = read(vec![10, 12, 13], &[10, 12, 13]);
         assert_eq!(values, vec![100.0, 120.0, 130.0]);
         assert_eq!(asked, vec![vec![10, 12, 13]]);
+    }
+
+    /// Every input gets its source's value, or its unknown's when the unknowns are given,
+    /// whether the plan copies runs of slots or of unknowns (connections interleaved between
+    /// the participants, as an SSP lists them) or gathers them one by one (an input fed from
+    /// two participants).
+    #[test]
+    fn inputs_get_their_sources_values_copied_as_runs_or_one_by_one() {
+        let table = |offset: f64, given: &Given| Table {
+            declared: (1..=4).collect(),
+            offset,
+            given: given.clone(),
+            ..Default::default()
+        };
+        let given: Vec<Given> = (0..3).map(|_| Rc::default()).collect();
+        let c = |from, from_vr, to, to_vr| Connection {
+            from,
+            from_vr,
+            to,
+            to_vr,
+        };
+        // A.k -> B.k and B.k -> A.k interleaved; C takes A.2 and B.3
+        let connections = vec![
+            c(0, 1, 1, 10),
+            c(1, 1, 0, 10),
+            c(0, 2, 1, 11),
+            c(1, 2, 0, 11),
+            c(0, 3, 1, 12),
+            c(1, 3, 0, 12),
+            c(0, 2, 2, 10),
+            c(1, 3, 2, 11),
+        ];
+        let parts: Vec<Box<dyn Participant>> = (0..3)
+            .map(|p| Box::new(table(1000.0 * p as f64, &given[p])) as Box<dyn Participant>)
+            .collect();
+        let mut sys = System::new(parts, connections.clone());
+        let mut ex = Exchange::new(&sys).unwrap();
+        assert_eq!(ex.runs[0].inputs_from_unknowns, Some(0));
+        assert!(ex.runs[1].inputs_from_slots.is_some());
+        assert!(ex.runs[0].outputs_to_slots.is_some() && ex.runs[1].outputs_to_slots.is_some());
+        assert_eq!(ex.runs[2].inputs_from_slots, None);
+        ex.read_all(&mut sys).unwrap();
+        let x: Vec<f64> = (0..ex.unknowns()).map(|u| -1.0 - u as f64).collect();
+        for with_x in [false, true] {
+            for (p, given) in given.iter().enumerate() {
+                given.borrow_mut().clear();
+                ex.write_inputs(&mut sys, p, with_x.then_some(&x[..]))
+                    .unwrap();
+                let mut expected: Vec<(u32, f64)> = Vec::new();
+                for k in connections.iter().filter(|k| k.to == p) {
+                    let slot = ex
+                        .slot_source
+                        .iter()
+                        .position(|&s| s == (k.from, k.from_vr));
+                    let unknown = ex.feedback_slots.iter().position(|&s| Some(s) == slot);
+                    let value = match unknown {
+                        Some(u) if with_x && k.from >= k.to => x[u],
+                        _ => 1000.0 * k.from as f64 + 10.0 * k.from_vr as f64,
+                    };
+                    expected.push((k.to_vr, value));
+                }
+                assert_eq!(
+                    *given.borrow(),
+                    expected,
+                    "participant {p}, unknowns {with_x}"
+                );
+            }
+        }
+        let mut fed = Vec::new();
+        ex.feedback_values(&mut fed);
+        assert_eq!(fed, vec![1010.0, 1020.0, 1030.0]);
     }
 }
