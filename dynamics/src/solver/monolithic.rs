@@ -237,17 +237,15 @@ impl Monolithic {
         for (w, ws) in self.wheelsets.iter().enumerate() {
             self.x[w] = self.train.x_at(ws.offset_m, t);
         }
-        // the vehicles at rest that stay off the deck
-        let rest = &mut self.work.rest_now;
-        rest.clear();
-        rest.resize(self.train.vehicles.len(), false);
-        if idle_allowed {
-            for (i, tv) in self.train.vehicles.iter().enumerate() {
-                let f0 = self.first_ws[i];
-                rest[i] = self.work.resting[i]
-                    && (f0..f0 + tv.model.wheelsets.len())
-                        .all(|w| !self.on[w] && !self.bridge.on_deck(self.x[w]));
-            }
+        // the vehicles at rest stay so while they stay off the deck (one that does not is
+        // stepped, which tells anew)
+        let rest = &mut self.work.resting;
+        for (i, tv) in self.train.vehicles.iter().enumerate() {
+            let f0 = self.first_ws[i];
+            rest[i] = rest[i]
+                && idle_allowed
+                && (f0..f0 + tv.model.wheelsets.len())
+                    .all(|w| !self.on[w] && !self.bridge.on_deck(self.x[w]));
         }
         let busy = &mut self.work.busy;
         busy.clear();
@@ -270,15 +268,15 @@ impl Monolithic {
         // the busy wheelsets' shapes, SHAPE_LANES at a time (each lane's shapes are those
         // of a lane alone)
         let lanes = &mut self.work.lanes;
-        let mut rest = &mut self.psi[..];
+        let mut psi = &mut self.psi[..];
         let mut base = 0;
         for chunk in busy.chunks(SHAPE_LANES) {
             let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
             let mut xs = [0.0; SHAPE_LANES];
             for ((o, x), &w) in outs.iter_mut().zip(&mut xs).zip(chunk) {
-                let tail = std::mem::take(&mut rest).split_at_mut((w - base) * nb).1;
+                let tail = std::mem::take(&mut psi).split_at_mut((w - base) * nb).1;
                 let (this, tail) = tail.split_at_mut(nb);
-                (*o, rest, base) = (this, tail, w + 1);
+                (*o, psi, base) = (this, tail, w + 1);
                 *x = self.x[w];
             }
             let mut on = [false; SHAPE_LANES];
@@ -928,9 +926,8 @@ struct Work {
     /// Whether the prescribed rail motion was zero everywhere at the last geometry update.
     flat_before: bool,
     /// Per vehicle: its last step left its state bit for bit the same, off the deck of an
-    /// ideal track without wind on the train; and whether it stays so in this step.
+    /// ideal track without wind on the train (kept while it stays off the deck).
     resting: Vec<bool>,
-    rest_now: Vec<bool>,
 }
 
 impl Work {
@@ -976,7 +973,6 @@ impl Work {
             busy_vehicles: Vec::new(),
             flat_before: false,
             resting: vec![false; train.vehicles.len()],
-            rest_now: Vec::new(),
         }
     }
 }
