@@ -158,7 +158,7 @@ pub(crate) fn figure(path: &Path, panels: &[Panel<'_>], t: &[f64]) -> Result<(),
 }
 
 /// Write the run's plots next to its history; `case` (e.g. "tsing-ma, 70 km/h") goes into
-/// every title. Readable units: deck vertical displacement in cm, lateral in mm,
+/// every title. The lateral deck figure only where the deck moves sideways. Readable units: deck vertical displacement in cm, lateral in mm,
 /// accelerations in cm/s².
 pub fn write_run_plots(
     out: &Path,
@@ -206,22 +206,33 @@ pub fn write_run_plots(
             ],
             &t,
         )?;
-        figure(
-            &out.join("deck_lateral.svg"),
-            &[
-                (
-                    ld.as_str(),
-                    "mm",
-                    probe_series("lateral_displacement_m", 1000.0),
-                ),
-                (
-                    la.as_str(),
-                    "cm/s²",
-                    probe_series("lateral_acceleration_m_s2", 100.0),
-                ),
-            ],
-            &t,
-        )?;
+        // A deck that does not move sideways (a bridge without lateral or torsional modes,
+        // such as a vertical beam model) gets no lateral figure, and none left from an
+        // earlier run into the same folder.
+        let lateral = [
+            probe_series("lateral_displacement_m", 1000.0),
+            probe_series("lateral_acceleration_m_s2", 100.0),
+        ];
+        let path = out.join("deck_lateral.svg");
+        if lateral
+            .iter()
+            .flatten()
+            .any(|(_, v)| v.iter().any(|&x| x != 0.0))
+        {
+            let [d, a] = lateral;
+            figure(
+                &path,
+                &[(ld.as_str(), "mm", d), (la.as_str(), "cm/s²", a)],
+                &t,
+            )?;
+        } else {
+            match std::fs::remove_file(&path) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(format!("{}: {e}", path.display()))
+                }
+                _ => {}
+            }
+        }
     }
     let mut veh = Vec::new();
     if let Some(c) = h.column("veh1.lateral_acceleration_m_s2") {

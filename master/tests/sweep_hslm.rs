@@ -162,7 +162,17 @@ fn hslm_a1_peaks_at_the_resonance_speed_and_equals_its_axles_typed_in() {
         "kind = \"hslm_a\"\nname = \"A1\"",
         &format!("kind = \"moving_force\"\naxles = [{}]", axles.join(", ")),
     );
+    // a stale lateral figure in the folder, which this vertical beam must not leave behind
+    std::fs::create_dir_all(dir.join("typed/out")).unwrap();
+    std::fs::write(dir.join("typed/out/deck_lateral.svg"), "<svg/>").unwrap();
     let a = run_peak(&dir.join("typed"), &typed, &["--speed-kmh", "300"]);
+    assert!(dir.join("typed/out/deck_vertical.svg").is_file());
+    assert!(
+        !dir.join("typed/out/deck_lateral.svg").exists(),
+        "no lateral figure for a deck without lateral motion"
+    );
+    assert!(!dir.join("sweep/A1/v300/deck_lateral.svg").exists());
+    assert!(dir.join("sweep/A1/v300/deck_vertical.svg").is_file());
     let row = rows.iter().find(|r| r.1 == 300.0).unwrap();
     assert!(
         (a - row.2).abs() <= 1e-9 * a,
