@@ -70,6 +70,66 @@ fn structured_solver_equals_dense_eq14() {
     }
 }
 
+/// The rail motion a step leaves under each wheelset on the ideal track is the deck's,
+/// `Ψ(x_w) (q, q̇, q̈)` at the new state: the step forms it from `Ψ q₁` and its predictors
+/// (Newmark), checked here against the three products of the shapes evaluated anew, to the
+/// round-off of the terms (`a0 Σ|ψ||q|` for the acceleration). Two coaches onto, over and
+/// off the bridge, every step.
+#[test]
+fn the_rail_motion_after_a_step_is_the_decks_at_the_new_state() {
+    let bridge = bridge_3d(2.05, 1.25, 0.02);
+    let train = two_coaches(160.0 / 3.6, -40.0, false);
+    let h = 2e-3;
+    let (a0, a1) = (4.0 / (h * h), 2.0 / h);
+    let mut sol = Monolithic::new(bridge.clone(), train, Arc::new(Smooth), h);
+    let mut psi = vec![[0.0; 3]; bridge.n_modes()];
+    let (mut on_deck, mut worst) = (0, 0.0_f64);
+    while sol.t < 3.0 {
+        sol.step();
+        for (w, rail) in sol.rail.iter().enumerate() {
+            let x = sol.x[w];
+            if !bridge.rail_shapes(x, &mut psi) {
+                assert!(
+                    rail.iter().all(|v| v.amax() == 0.0),
+                    "off the deck: {rail:?}"
+                );
+                continue;
+            }
+            on_deck += 1;
+            for (d, (state, factor)) in [(&sol.q, 1.0), (&sol.qd, a1), (&sol.qdd, a0)]
+                .into_iter()
+                .enumerate()
+            {
+                for k in 0..3 {
+                    let exact: f64 = psi.iter().zip(state.iter()).map(|(p, v)| p[k] * v).sum();
+                    let terms: f64 = psi
+                        .iter()
+                        .zip(sol.q.iter())
+                        .map(|(p, v)| (p[k] * v).abs())
+                        .sum::<f64>()
+                        * factor
+                        + psi
+                            .iter()
+                            .zip(state.iter())
+                            .map(|(p, v)| (p[k] * v).abs())
+                            .sum::<f64>();
+                    let e = (rail[d][k] - exact).abs() / terms.max(f64::MIN_POSITIVE);
+                    worst = worst.max(e);
+                    assert!(
+                        e <= 1e-13,
+                        "wheelset {w} at {x} m, derivative {d}, component {k}: {} vs {exact}",
+                        rail[d][k]
+                    );
+                }
+            }
+        }
+    }
+    println!(
+        "largest difference {worst:.2e} of the terms over {on_deck} wheelset steps on the deck"
+    );
+    assert!(on_deck > 1000);
+}
+
 /// Total mechanical energy of a parked train on the bridge (positions fixed).
 fn energy(sol: &Monolithic) -> f64 {
     let w: Vec<f64> = sol.bridge.omegas();
