@@ -3,7 +3,7 @@
 //! deck twist under an eccentric train against a moving-torque modal series.
 #![allow(clippy::needless_range_loop)]
 mod common;
-use common::eq14::{dense_reference_step, stacked_state};
+use common::eq14::{assemble_eq14, dense_reference_step, stacked_state};
 use common::*;
 use nalgebra::DVector;
 use std::sync::Arc;
@@ -128,6 +128,44 @@ fn the_rail_motion_after_a_step_is_the_decks_at_the_new_state() {
         "largest difference {worst:.2e} of the terms over {on_deck} wheelset steps on the deck"
     );
     assert!(on_deck > 1000);
+}
+
+/// The reduced bridge matrix the step solves with, `D̂ + Σ Uᵀ S U` (assembled in its upper
+/// triangle), is the Schur complement of the dense Newmark matrix `a0 M + a1 C + K` of
+/// eq. (14) onto the bridge's modes, `K̂_bb − K̂_bv K̂_vv⁻¹ K̂_vb`, and symmetric bit for bit:
+/// two coaches onto, over and off a bridge with lateral, vertical and torsional modes.
+#[test]
+fn the_reduced_matrix_is_the_schur_complement_of_eq14() {
+    let train = two_coaches(160.0 / 3.6, -10.0, false);
+    let mut sol = Monolithic::new(bridge_3d(2.05, 1.25, 0.02), train, Arc::new(Smooth), 2e-3);
+    let nm = tbi_dynamics::newmark::Newmark::new(sol.dt());
+    let nb = sol.q.len();
+    let (mut checked, mut worst) = (0, 0.0_f64);
+    let mut step = 0;
+    while sol.t < 2.0 {
+        sol.step();
+        step += 1;
+        if step % 20 != 0 {
+            continue;
+        }
+        let (m, c, k, _) = assemble_eq14(&sol, sol.t);
+        let khat = nm.a0 * m + nm.a1 * c + k;
+        let nv = khat.nrows() - nb;
+        let kvv = khat.view((0, 0), (nv, nv)).into_owned();
+        let kvb = khat.view((0, nv), (nv, nb)).into_owned();
+        let kbb = khat.view((nv, nv), (nb, nb)).into_owned();
+        let schur = kbb - kvb.transpose() * kvv.lu().solve(&kvb).unwrap();
+        let a = sol.reduced_matrix();
+        assert!(a == a.transpose(), "t = {}: not symmetric", sol.t);
+        let e = (&a - &schur).amax() / schur.amax();
+        worst = worst.max(e);
+        assert!(e <= 1e-13, "t = {}: {e:e} of the largest entry", sol.t);
+        if sol.x.iter().all(|&x| x > 0.0 && x < 60.0) {
+            checked += 1;
+        }
+    }
+    println!("largest difference {worst:.2e} of the largest entry, {checked} checks with all wheelsets on the deck");
+    assert!(checked >= 10);
 }
 
 /// Total mechanical energy of a parked train on the bridge (positions fixed).

@@ -207,6 +207,18 @@ impl Monolithic {
         self.nm.h
     }
 
+    /// The reduced bridge matrix `A = D̂ + Σ Uᵀ S U` (`N_b × N_b`, symmetric) at the
+    /// wheelsets' positions at the current time: what a step to this time solves for `q`
+    /// (see the module docs), with the vehicles eliminated. For inspection and tests.
+    pub fn reduced_matrix(&self) -> DMatrix<f64> {
+        let nm = self.nm;
+        let dhat = DVector::from_fn(self.q.len(), |n, _| {
+            let c = 2.0 * self.zeta[n] * self.omega[n];
+            nm.a0 + nm.a1 * c + self.omega[n] * self.omega[n]
+        });
+        self.assemble_reduced(&dhat, &self.work.busy_vehicles)
+    }
+
     /// The wheelsets whose force can change (all but the moving forces), into `out`.
     pub(crate) fn forces_varying_into(&self, out: &mut Option<Vec<usize>>) {
         out.get_or_insert_with(Vec::new).clone_from(&self.varying);
@@ -587,7 +599,8 @@ impl Monolithic {
         let lagged = w.costs.lagged();
         if lagged && w.pre.is_none() {
             // None (not positive definite) leaves the step to the direct solver
-            let Some(inverse) = spd_inverse(self.assemble_reduced(w)) else {
+            let Some(inverse) = spd_inverse(self.assemble_reduced(&w.dhat, &w.busy_vehicles))
+            else {
                 return false;
             };
             w.pre = Some(inverse);
@@ -677,7 +690,7 @@ impl Monolithic {
 
     /// Assemble `A = D̂ + Σ Uᵀ S U` and solve by Cholesky.
     fn solve_direct(&self, w: &Work) -> DVector<f64> {
-        self.assemble_reduced(w)
+        self.assemble_reduced(&w.dhat, &w.busy_vehicles)
             .cholesky()
             .expect("reduced bridge matrix is positive definite")
             .solve(&w.bq)
@@ -688,14 +701,14 @@ impl Monolithic {
     /// update per rail DOF, each column's upper part a contiguous multiply-add, and the
     /// lower triangle copied from the upper (`A` is symmetric, `S` being so; off-deck
     /// wheelsets have zero shapes and are left out).
-    fn assemble_reduced(&self, w: &Work) -> DMatrix<f64> {
-        let nb = w.bq.len();
+    fn assemble_reduced(&self, dhat: &DVector<f64>, vehicles: &[usize]) -> DMatrix<f64> {
+        let nb = dhat.len();
         let mut a = vec![0.0; nb * nb];
         for n in 0..nb {
-            a[n * nb + n] = w.dhat[n];
+            a[n * nb + n] = dhat[n];
         }
         let (mut u, mut su) = (Vec::new(), Vec::new());
-        for &i in &w.busy_vehicles {
+        for &i in vehicles {
             let f0 = self.first_ws[i];
             let nwi = self.train.vehicles[i].model.wheelsets.len();
             let rows = &self.cache[i].s_rows;
@@ -1089,90 +1102,6 @@ fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The reduced matrix assembled from its upper triangle equals `D̂ + Σ Uᵀ S U` formed
-    /// densely (nalgebra products of each coach's stacked shapes and its `S`) to round-off,
-    /// and is symmetric bit for bit: two coaches on a 60 m bridge with lateral, vertical and
-    /// torsional modes, at several steps of their crossing.
-    #[test]
-    fn the_reduced_matrix_from_its_upper_triangle_equals_the_dense_products() {
-        use crate::bridge::SimplySupported;
-        use crate::train::TrainVehicle;
-        use crate::vehicle::coach::CoachParams;
-        let bridge = SimplySupported {
-            span_m: 60.0,
-            youngs_modulus_pa: 3.0e10,
-            inertia_vertical_m4: 8.0,
-            inertia_lateral_m4: Some(40.0),
-            shear_modulus_pa: Some(1.2e10),
-            torsion_constant_m4: Some(12.0),
-            polar_inertia_kg_m: Some(3.0e5),
-            mass_per_length_kg_m: 2.0e4,
-            modes: 12,
-            damping_ratio: 0.02,
-            damping_ratio_torsional: 0.01,
-            e_m: 2.05,
-            h4_m: 1.25,
-            x_start_m: 0.0,
-        }
-        .modal();
-        let p = CoachParams::xia2000();
-        let coach = Arc::new(p.build().unwrap());
-        let train = Train {
-            vehicles: [0.0, p.length_m]
-                .iter()
-                .map(|&offset_m| TrainVehicle {
-                    model: coach.clone(),
-                    offset_m,
-                })
-                .collect(),
-            speed_m_s: 160.0 / 3.6,
-            x0_m: 10.0,
-            hunting: tbi_track::WheelHunting::new(&tbi_track::HuntingParams::default(), 8).unwrap(),
-            wind: None,
-        };
-        let mut sol = Monolithic::new(bridge, train, Arc::new(crate::track::Smooth), 2e-3);
-        let nb = sol.q.len();
-        let mut checked = 0;
-        for step in 1..=1000 {
-            sol.step();
-            if step % 20 != 0 {
-                continue;
-            }
-            let w = &sol.work;
-            let a = sol.assemble_reduced(w);
-            let mut reference = DMatrix::from_diagonal(&w.dhat);
-            for (i, tv) in sol.train.vehicles.iter().enumerate() {
-                let f0 = sol.first_ws[i];
-                let nwi = tv.model.wheelsets.len();
-                let u = DMatrix::from_fn(3 * nwi, nb, |r, n| {
-                    let ws = f0 + r / 3;
-                    if sol.on[ws] {
-                        sol.psi_w(ws)[n][r % 3]
-                    } else {
-                        0.0
-                    }
-                });
-                let mut s = DMatrix::zeros(3 * nwi, 3 * nwi);
-                for (r, row) in sol.cache[i].s_rows.iter().enumerate() {
-                    for &(c, v) in row {
-                        s[(r, c)] = v;
-                    }
-                }
-                reference += u.transpose() * s * u;
-            }
-            let scale = reference.amax();
-            assert!((&a - &reference).amax() <= 1e-14 * scale, "step {step}");
-            assert!(a == a.transpose(), "step {step}: not symmetric");
-            if sol.on.iter().filter(|&&o| o).count() == 8 {
-                checked += 1;
-            }
-        }
-        assert!(
-            checked >= 3,
-            "both coaches on the deck in {checked} of the checks"
-        );
-    }
 
     /// The sweeps give the inverse: `A A⁻¹ = I` to round-off on a symmetric positive
     /// definite matrix with a wide range of scales (a reduced matrix's diagonal spans ω² of
