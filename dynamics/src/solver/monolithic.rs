@@ -176,6 +176,11 @@ impl Monolithic {
             work: Work::default(),
         };
         s.work = Work::new(nb, &s.train);
+        // D̂ = diag(a0 + a1 2ζω + ω²), fixed by the step size and the modes
+        for n in 0..nb {
+            let c = 2.0 * s.zeta[n] * s.omega[n];
+            s.work.dhat[n] = nm.a0 + nm.a1 * c + s.omega[n] * s.omega[n];
+        }
         s.update_geometry(0.0);
         for w in 0..nw {
             s.rail[w] = s.presc[w];
@@ -211,12 +216,7 @@ impl Monolithic {
     /// wheelsets' positions at the current time: what a step to this time solves for `q`
     /// (see the module docs), with the vehicles eliminated. For inspection and tests.
     pub fn reduced_matrix(&self) -> DMatrix<f64> {
-        let nm = self.nm;
-        let dhat = DVector::from_fn(self.q.len(), |n, _| {
-            let c = 2.0 * self.zeta[n] * self.omega[n];
-            nm.a0 + nm.a1 * c + self.omega[n] * self.omega[n]
-        });
-        self.assemble_reduced(&dhat, &self.work.busy_vehicles)
+        self.assemble_reduced(&self.work.dhat, &self.work.busy_vehicles)
     }
 
     /// The wheelsets whose force can change (all but the moving forces), into `out`.
@@ -351,28 +351,22 @@ impl Monolithic {
     /// The deck's part `(Ψ q, Ψ q̇, Ψ q̈)` of the rail motion under every wheelset (zero off
     /// the deck) at the current modal state, into `out`.
     fn deck_motion_into(&self, out: &mut Vec<[Vector3<f64>; 3]>) {
-        let all: Vec<usize> = (0..self.wheelsets.len()).collect();
-        self.deck_motion_of(&all, out);
-    }
-
-    /// [`Self::deck_motion_into`] of the wheelsets `busy` (the other entries of `out` are
-    /// left as they are; `out` gets one entry per wheelset).
-    fn deck_motion_of(&self, busy: &[usize], out: &mut Vec<[Vector3<f64>; 3]>) {
         let (q, qd, qdd) = (self.q.as_slice(), self.qd.as_slice(), self.qdd.as_slice());
-        out.resize(self.wheelsets.len(), [Vector3::zeros(); 3]);
-        for &w in busy {
-            out[w] = if self.on[w] {
+        out.clear();
+        out.extend((0..self.wheelsets.len()).map(|w| {
+            if self.on[w] {
                 psi_mul3(self.psi_w(w), q, qd, qdd)
             } else {
                 [Vector3::zeros(); 3]
-            };
-        }
+            }
+        }));
     }
 
-    /// [`Self::deck_motion_of`] at the end of a step from `Ψ q₁` alone: Newmark's
+    /// [`Self::deck_motion_into`] of the wheelsets `busy` at the end of a step from `Ψ q₁` alone: Newmark's
     /// `q̇₁ = a1 q₁ − q_c` and `q̈₁ = a0 q₁ − q_m` give `Ψ q̇₁ = a1 Ψ q₁ − Ψ q_c` and
     /// `Ψ q̈₁ = a0 Ψ q₁ − Ψ q_m`, with the step's `pred[w] = (Ψ q_c, Ψ q_m)` under the same
-    /// shapes: one pass over the shapes instead of three.
+    /// shapes: one pass over the shapes instead of three (the other entries of `out` are left
+    /// as they are; `out` gets one entry per wheelset).
     fn deck_motion_at_end(
         &self,
         busy: &[usize],
@@ -427,7 +421,6 @@ impl Monolithic {
             let c = 2.0 * self.zeta[n] * self.omega[n];
             w.qm[n] = nm.mass_pred(self.q[n], self.qd[n], self.qdd[n]);
             w.qc[n] = nm.damp_pred(self.q[n], self.qd[n]);
-            w.dhat[n] = nm.a0 + nm.a1 * c + self.omega[n] * self.omega[n];
             w.bq[n] = w.qm[n] + c * w.qc[n] + self.bridge.steady(n);
         }
         if let Some(b) = &self.buffeting {
@@ -937,6 +930,7 @@ fn psi_tr_add(psi: &[[f64; 3]], f: &Vector3<f64>, out: &mut [f64]) {
 struct Work {
     qm: DVector<f64>,
     qc: DVector<f64>,
+    /// `D̂ = diag(a0 + a1 2ζω + ω²)`, set once by [`Monolithic::new`].
     dhat: DVector<f64>,
     bq: DVector<f64>,
     /// The preconditioner: the inverse of the reduced matrix of an earlier step (None:
@@ -1103,9 +1097,6 @@ fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
 mod tests {
     use super::*;
 
-    /// The sweeps give the inverse: `A A⁻¹ = I` to round-off on a symmetric positive
-    /// definite matrix with a wide range of scales (a reduced matrix's diagonal spans ω² of
-    /// the first and last modes), and None for an indefinite one.
     /// Several wheelsets' `Ψ q` side by side equal one [`psi_mul`] per wheelset bit for bit,
     /// for one to nine wheelsets (groups of four and the rest).
     #[test]
@@ -1134,6 +1125,9 @@ mod tests {
         }
     }
 
+    /// The sweeps give the inverse: `A A⁻¹ = I` to round-off on a symmetric positive
+    /// definite matrix with a wide range of scales (a reduced matrix's diagonal spans ω² of
+    /// the first and last modes), and None for an indefinite one.
     #[test]
     fn gauss_jordan_sweeps_invert_a_positive_definite_matrix() {
         let n = 20;

@@ -220,7 +220,7 @@ impl Exchange {
             new_of[old] = k;
         }
         let mut source = self.slot_source.clone();
-        let mut unit = self.slot_unit.clone();
+        let mut unit = vec![None; self.slot_unit.len()];
         for (old, &new) in new_of.iter().enumerate() {
             source[new] = self.slot_source[old];
             unit[new] = self.slot_unit[old].take();
