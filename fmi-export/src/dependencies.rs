@@ -9,8 +9,8 @@
 //! yᵢ depends on uⱼ  ⇔  yᵢ(u + δⱼ eⱼ) ≠ yᵢ(u)   (compared bit for bit)
 //! ```
 //!
-//! The state is restored between probes with [`FmuModel::serialize_state`] /
-//! [`FmuModel::deserialize_state`]. An output that does not depend on a known is computed
+//! The state is restored between probes from a clone of the model taken before the first
+//! (`clone_from`, as `fmi2SetFMUstate` restores a saved state). An output that does not depend on a known is computed
 //! without it and stays bit-identical; one that does changes unless the operating point is
 //! special (an output exactly insensitive there), which the caller avoids by choosing
 //! generic values.
@@ -36,7 +36,7 @@ pub fn probe<M: FmuModel>(
     phase: Phase,
     delta: impl Fn(u32, f64) -> f64,
 ) -> Result<Vec<Vec<u32>>, String> {
-    let snapshot = model.serialize_state();
+    let snapshot = model.clone();
     let read = |m: &mut M| -> Result<Vec<u64>, String> {
         outputs
             .iter()
@@ -46,7 +46,7 @@ pub fn probe<M: FmuModel>(
     let base = read(model)?;
     let mut deps = vec![Vec::new(); outputs.len()];
     for &k in knowns {
-        model.deserialize_state(&snapshot)?;
+        model.clone_from(&snapshot);
         let v = model.get_real(k)?;
         model.set_real(k, v + delta(k, v), phase)?;
         for (d, (now, was)) in deps.iter_mut().zip(read(model)?.iter().zip(&base)) {
@@ -55,6 +55,6 @@ pub fn probe<M: FmuModel>(
             }
         }
     }
-    model.deserialize_state(&snapshot)?;
+    model.clone_from(&snapshot);
     Ok(deps)
 }
