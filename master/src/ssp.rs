@@ -556,25 +556,53 @@ pub fn wire(
         }
         .map_err(|e| format!("{at}: {e}"))?;
     }
-    // Inputs start from the outputs they are connected to.
+    // Inputs start from the outputs they are connected to: every connected output read, then
+    // every input set, one call per instance and direction, until a pass reads what the
+    // pass before it did (an FMU in initialisation mode may recompute all its outputs when
+    // one is read after an input has changed).
+    let by = |end: fn(&Connection) -> (usize, u32)| -> Vec<(Vec<usize>, Vec<u32>)> {
+        (0..instances.len())
+            .map(|i| {
+                let mine: Vec<usize> = (0..connections.len())
+                    .filter(|&k| end(&connections[k]).0 == i)
+                    .collect();
+                let vrs = mine.iter().map(|&k| end(&connections[k]).1).collect();
+                (mine, vrs)
+            })
+            .collect()
+    };
+    let sources = by(|c| (c.from, c.from_vr));
+    let targets = by(|c| (c.to, c.to_vr));
     let mut last: Vec<f64> = Vec::new();
+    let mut buf: Vec<f64> = Vec::new();
     for _ in 0..50 {
-        let mut now = Vec::with_capacity(connections.len() + discrete.len());
-        for c in &connections {
-            let mut v = [0.0];
-            instances[c.from]
-                .get_real(&[c.from_vr], &mut v)
-                .map_err(|e| e.to_string())?;
-            instances[c.to]
-                .set_real(&[c.to_vr], &v)
-                .map_err(|e| e.to_string())?;
-            now.push(v[0]);
+        let mut now = vec![0.0; connections.len()];
+        for (inst, (mine, vrs)) in instances.iter_mut().zip(&sources) {
+            if mine.is_empty() {
+                continue;
+            }
+            buf.resize(vrs.len(), 0.0);
+            inst.get_real(vrs, &mut buf).map_err(|e| e.to_string())?;
+            for (&k, &v) in mine.iter().zip(&buf) {
+                now[k] = v;
+            }
         }
+        let mut levels = Vec::with_capacity(discrete.len());
         for c in &discrete {
-            let v = get_discrete(&mut instances[c.from], c.kind, c.from_vr)?;
-            set_discrete(&mut instances[c.to], c.kind, c.to_vr, v)?;
-            now.push(f64::from(v));
+            levels.push(get_discrete(&mut instances[c.from], c.kind, c.from_vr)?);
         }
+        for (inst, (mine, vrs)) in instances.iter_mut().zip(&targets) {
+            if mine.is_empty() {
+                continue;
+            }
+            buf.clear();
+            buf.extend(mine.iter().map(|&k| now[k]));
+            inst.set_real(vrs, &buf).map_err(|e| e.to_string())?;
+        }
+        for (c, &v) in discrete.iter().zip(&levels) {
+            set_discrete(&mut instances[c.to], c.kind, c.to_vr, v)?;
+        }
+        now.extend(levels.iter().map(|&v| f64::from(v)));
         if now == last {
             break;
         }
