@@ -145,3 +145,122 @@ fn converged_partitions_equal_monolithic() {
     // monolithic solver still for displacements. Bound about twice the measurement.
     assert!(max_rel < 2.5e-11, "partitioned vs monolithic: {max_rel:e}");
 }
+
+/// For nodal shapes the bridge side works through the nodes (each node in use projected and
+/// moved once, the wheelsets combining their stencils' nodes): its rail motion under every
+/// wheelset equals the irregularity's plus `Ψ(x)(q, q̇, q̈)`, and its generalised forces
+/// `Σ Ψ(x)ᵀ f`, with `Ψ(x)` the rail shapes evaluated at each wheelset, to round-off; the
+/// single-wheelset `rail` gives `rails` bit for bit. Uneven nodes, a track off the shear
+/// centre, wheelsets off the deck, at its ends, on a node, between nodes and sharing a
+/// stencil.
+#[test]
+fn nodal_shapes_through_the_nodes_equal_the_shapes_at_each_wheelset() {
+    use tbi_dynamics::bridge::{ModalBridge, Shapes};
+    let nb = 7;
+    let x_m: Vec<f64> = [0.0, 9.0, 20.0, 28.0, 41.0, 50.0, 63.0, 70.0, 84.0]
+        .iter()
+        .map(|x| 100.0 + x)
+        .collect();
+    let values: Vec<[f64; 3]> = (0..x_m.len() * nb)
+        .map(|i| {
+            let v = |c: f64| ((i as f64 + c) * 0.618_033_988_7).sin();
+            [0.3 * v(0.1), v(1.3), 0.05 * v(2.9)]
+        })
+        .collect();
+    let bridge = ModalBridge {
+        x_start_m: 100.0,
+        x_end_m: 184.0,
+        frequencies_hz: (1..=nb).map(|n| 0.7 * n as f64).collect(),
+        damping: vec![0.01; nb],
+        labels: vec![String::new(); nb],
+        e_m: 2.05,
+        h4_m: 1.25,
+        shapes: Shapes::Nodal {
+            x_m,
+            values,
+            order: 4,
+        },
+        steady_modal_force: Vec::new(),
+        buffeting: None,
+    };
+    let xs = [
+        90.0, 100.0, 103.7, 106.2, 120.0, 120.0, 131.5, 150.0, 151.1, 183.9, 184.0, 190.0,
+    ];
+    let inputs: Vec<WheelInput> = xs
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| WheelInput {
+            x,
+            vx: 30.0 + i as f64,
+            f: [
+                1.0e4 * (i as f64 - 5.0),
+                -3.0e3 * (1.0 + 0.1 * i as f64),
+                1.2e5 + 7.0e3 * i as f64,
+            ],
+        })
+        .collect();
+    let track: Arc<dyn RailProfile> = Arc::new(Waves);
+    let mut bs = BridgeSide::new(Arc::new(bridge.clone()), track.clone());
+    // no steady loads: the initial acceleration is the generalised force Σ Ψᵀ f
+    bs.initialize(&inputs);
+    let mut psi = vec![[0.0; 3]; nb];
+    let mut force = vec![0.0; nb];
+    let mut force_scale = vec![0.0; nb];
+    for wi in &inputs {
+        if bridge.rail_shapes(wi.x, &mut psi) {
+            for n in 0..nb {
+                for (p, f) in psi[n].iter().zip(wi.f) {
+                    force[n] += p * f;
+                    force_scale[n] += (p * f).abs();
+                }
+            }
+        }
+    }
+    for n in 0..nb {
+        let d = (bs.state.qdd[n] - force[n]).abs();
+        assert!(
+            d <= 1e-14 * force_scale[n],
+            "mode {n}: {} against {} (terms {})",
+            bs.state.qdd[n],
+            force[n],
+            force_scale[n]
+        );
+    }
+    bs.state.q = (0..nb).map(|n| 1e-2 * (n as f64 + 1.0).sin()).collect();
+    bs.state.qd = (0..nb).map(|n| 3e-2 * (n as f64 + 2.0).cos()).collect();
+    bs.state.qdd = (0..nb).map(|n| -0.4 * (n as f64 + 0.5).sin()).collect();
+    let mut rails = Vec::new();
+    bs.rails(&inputs, |w, r: &[Vector3<f64>; 3]| rails.push((w, *r)));
+    assert_eq!(rails.len(), inputs.len());
+    for (i, wi) in inputs.iter().enumerate() {
+        let (w, r) = rails[i];
+        assert_eq!(w, i);
+        let mut expected = tbi_dynamics::track::rail_motion(&track.at(wi.x), wi.vx);
+        let mut scale = [Vector3::<f64>::zeros(); 3];
+        if bridge.rail_shapes(wi.x, &mut psi) {
+            let s = &bs.state;
+            for (d, m) in [&s.q, &s.qd, &s.qdd].into_iter().enumerate() {
+                for n in 0..nb {
+                    for k in 0..3 {
+                        expected[d][k] += psi[n][k] * m[n];
+                        scale[d][k] += (psi[n][k] * m[n]).abs();
+                    }
+                }
+            }
+        }
+        for d in 0..3 {
+            for k in 0..3 {
+                let tol = 1e-14 * (scale[d][k] + expected[d][k].abs());
+                assert!(
+                    (r[d][k] - expected[d][k]).abs() <= tol,
+                    "x = {}: derivative {d}, component {k}: {} against {}",
+                    wi.x,
+                    r[d][k],
+                    expected[d][k]
+                );
+            }
+        }
+        let single = bs.rail(i, wi.x, wi.vx);
+        assert_eq!(single, r, "rail and rails at x = {}", wi.x);
+    }
+}

@@ -294,10 +294,41 @@ impl ModalBridge {
         }
     }
 
-    /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` (eq. 8).
+    /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` (eq. 8): deck motion at the
+    /// shear centre to rail motion.
     #[inline]
-    fn rail_of(&self, [h, v, t]: [f64; 3]) -> [f64; 3] {
+    pub fn rail_of(&self, [h, v, t]: [f64; 3]) -> [f64; 3] {
         [h + self.h4_m * t, t, v + self.e_m * t]
+    }
+
+    /// The transpose of [`Self::rail_of`]: a force on the rail `(F_y, M_x, F_z)` as the
+    /// deck's generalised force per unit shape `(F_y, F_z, M_x + h4 F_y + e F_z)`, so that
+    /// `Ψᵀ f = Σ φᵀ (rail_ofᵀ f)`.
+    #[inline]
+    pub fn deck_force_of(&self, [fy, mx, fz]: [f64; 3]) -> [f64; 3] {
+        [fy, fz, mx + self.h4_m * fy + self.e_m * fz]
+    }
+
+    /// Nodal shapes: the node values, node-major (`values[node * n_modes + mode]`, deck
+    /// components), and the number of nodes. None for sine shapes.
+    pub fn nodal_values(&self) -> Option<(&[[f64; 3]], usize)> {
+        match &self.shapes {
+            Shapes::Nodal { x_m, values, .. } => Some((values, x_m.len())),
+            Shapes::Sine { .. } => None,
+        }
+    }
+
+    /// Nodal shapes on the deck at `x`: the Lagrange stencil [`Self::deck_shapes`] combines
+    /// the node values with, `φ(x) = Σⱼ wⱼ φ(node start + j)` for `j < count`, as
+    /// `(start, w, count)`. None off the deck or for sine shapes.
+    pub fn nodal_stencil(&self, x: f64) -> Option<(usize, [f64; 8], usize)> {
+        match &self.shapes {
+            Shapes::Nodal { x_m, order, .. } if self.on_deck(x) => {
+                let (start, w) = lagrange_weights(x_m, *order, x);
+                Some((start, w, (*order).min(x_m.len()).min(w.len())))
+            }
+            _ => None,
+        }
     }
 
     /// [`Self::rail_of`] in place.

@@ -118,6 +118,8 @@ pub struct BridgeSide {
     modal: Vec<[f64; 4]>,
     /// Scratch of [`Self::step`]: the generalised forces.
     force: Vec<f64>,
+    /// Scratch of the nodal path.
+    nodes: NodeScratch,
 }
 
 impl Clone for BridgeSide {
@@ -133,6 +135,7 @@ impl Clone for BridgeSide {
             deck_wind: self.deck_wind.clone(),
             modal: Vec::new(),
             force: Vec::new(),
+            nodes: NodeScratch::default(),
         }
     }
 
@@ -171,6 +174,7 @@ impl BridgeSide {
             deck_wind: None,
             modal: Vec::new(),
             force: Vec::new(),
+            nodes: NodeScratch::default(),
             bridge,
             track,
         }
@@ -217,12 +221,39 @@ impl BridgeSide {
     }
 
     /// [`Self::modal_force`] into `fq` (resized to the modes).
+    ///
+    /// For nodal shapes through the nodes: `Ψ(x)ᵀ f = Σⱼ wⱼ φⱼᵀ (Rᵀ f)` (`R` the rail map
+    /// [`ModalBridge::rail_of`], `φⱼ` the node values of the stencil at `x`), so the
+    /// wheelsets' forces are first gathered at the nodes of their stencils and each node in
+    /// use is projected once: a pass over the modes per node instead of per wheelset, and
+    /// no shapes to evaluate.
     fn modal_force_into(&mut self, inputs: &[WheelInput], fq: &mut Vec<f64>) {
         let nb = self.omega.len();
         fq.clear();
         fq.resize(nb, 0.0);
         let mut c = self.cache.lock().expect("shape cache");
         c.fill(&self.bridge, &*self.track, nb, inputs);
+        if let Some((values, n_nodes)) = self.bridge.nodal_values() {
+            let ns = &mut self.nodes;
+            ns.begin(n_nodes);
+            for (w, wi) in inputs.iter().enumerate() {
+                if let (Some(st), _) = c.stencil(w, wi.x) {
+                    let g = self.bridge.deck_force_of(wi.f);
+                    for j in 0..st.k {
+                        let i = st.start + j;
+                        ns.touch(i);
+                        for (f, gc) in ns.force[i].iter_mut().zip(g) {
+                            *f += st.w[j] * gc;
+                        }
+                    }
+                }
+            }
+            ns.nodes.sort_unstable();
+            for &i in &ns.nodes {
+                crate::simd::project_force(fq, &values[i * nb..(i + 1) * nb], ns.force[i]);
+            }
+            return;
+        }
         for (w, wi) in inputs.iter().enumerate() {
             if let (true, psi, _) = c.entry(nb, w, wi.x) {
                 crate::simd::project_force(fq, psi, wi.f);
@@ -273,6 +304,12 @@ impl BridgeSide {
     /// Rail motion (u, u̇, ü) under wheelset slot `w` at `x`, moving at `vx`: deck plus
     /// irregularity.
     pub fn rail(&mut self, w: usize, x: f64, vx: f64) -> [Vector3<f64>; 3] {
+        if self.bridge.nodal_values().is_some() {
+            let input = WheelInput { x, vx, f: [0.0; 3] };
+            let mut out = [Vector3::zeros(); 3];
+            self.rails_nodal(std::slice::from_ref(&input), Some(w), |_, r| out = *r);
+            return out;
+        }
         let s = &self.state;
         self.with_shapes(w, x, |on, psi, irregularity| {
             let mut r = rail_motion(irregularity, vx);
@@ -292,6 +329,9 @@ impl BridgeSide {
     /// [`Self::rail`] under every wheelset, wheelset `w` at `inputs[w]`: `f(w, motion)`. The
     /// same sums in the same order, with `(q, q̇, q̈)` of a mode side by side.
     pub fn rails(&mut self, inputs: &[WheelInput], mut f: impl FnMut(usize, &[Vector3<f64>; 3])) {
+        if self.bridge.nodal_values().is_some() {
+            return self.rails_nodal(inputs, None, f);
+        }
         let nb = self.omega.len();
         let s = &self.state;
         self.modal.clear();
@@ -345,6 +385,56 @@ impl BridgeSide {
                 }
                 f(2 * p + i, &r[i]);
             }
+        }
+    }
+
+    /// [`Self::rails`] for nodal shapes, through the nodes: the deck motion of each node in
+    /// use once, `(φ q, φ q̇, φ q̈)` at the node, then at each wheelset the stencil's
+    /// combination of its nodes' motion, mapped to the rail ([`ModalBridge::rail_of`]) and
+    /// added to the irregularity's. The inputs are those of wheelset slots `0, 1, …`, or of
+    /// slot `slot` alone.
+    fn rails_nodal(
+        &mut self,
+        inputs: &[WheelInput],
+        slot: Option<usize>,
+        mut f: impl FnMut(usize, &[Vector3<f64>; 3]),
+    ) {
+        let nb = self.omega.len();
+        let (values, n_nodes) = self.bridge.nodal_values().expect("nodal shapes");
+        let s = &self.state;
+        self.modal.clear();
+        self.modal
+            .extend((s.q.iter().zip(&s.qd).zip(&s.qdd)).map(|((&q, &qd), &qdd)| [q, qd, qdd, 0.0]));
+        let slot_of = |w: usize| slot.unwrap_or(w);
+        let mut c = self.cache.lock().expect("shape cache");
+        match slot {
+            Some(w) => {
+                c.reserve(w + 1, nb);
+                if let Some(p) = c.claim(&*self.track, w, inputs[0].x) {
+                    c.shapes_of(&self.bridge, nb, &[p]);
+                }
+            }
+            None => c.fill(&self.bridge, &*self.track, nb, inputs),
+        }
+        let ns = &mut self.nodes;
+        ns.begin(n_nodes);
+        for (w, wi) in inputs.iter().enumerate() {
+            if let (Some(st), _) = c.stencil(slot_of(w), wi.x) {
+                for j in 0..st.k {
+                    ns.touch(st.start + j);
+                }
+            }
+        }
+        ns.node_motions(values, nb, &self.modal);
+        for (w, wi) in inputs.iter().enumerate() {
+            let (st, irregularity) = c.stencil(slot_of(w), wi.x);
+            let mut r = rail_motion(irregularity, wi.vx);
+            if let Some(st) = st {
+                for (rd, d) in r.iter_mut().zip(ns.deck_motion(st)) {
+                    *rd += Vector3::from(self.bridge.rail_of(d));
+                }
+            }
+            f(slot_of(w), &r);
         }
     }
 
@@ -776,14 +866,90 @@ impl TrainSide {
     }
 }
 
+/// A Lagrange stencil of nodal shapes: `φ(x) = Σⱼ w[j] φ(node start + j)`, `j < k`.
+#[derive(Debug, Clone, Copy, Default)]
+struct Stencil {
+    start: usize,
+    w: [f64; 8],
+    k: usize,
+}
+
+/// Scratch of the nodal path ([`BridgeSide::modal_force_into`], [`BridgeSide::rails`]): per
+/// node the wheelsets' forces gathered there (deck components) and the deck motion
+/// `(φ q, φ q̇, φ q̈)` there, and the nodes in use, ascending once sorted.
+#[derive(Debug, Default)]
+struct NodeScratch {
+    force: Vec<[f64; 3]>,
+    motion: Vec<[[f64; 4]; 3]>,
+    used: Vec<bool>,
+    nodes: Vec<usize>,
+}
+
+impl NodeScratch {
+    /// No node in use, room for `n` nodes.
+    fn begin(&mut self, n: usize) {
+        for &i in &self.nodes {
+            self.used[i] = false;
+        }
+        self.nodes.clear();
+        if self.used.len() < n {
+            self.used.resize(n, false);
+            self.force.resize(n, [0.0; 3]);
+            self.motion.resize(n, [[0.0; 4]; 3]);
+        }
+    }
+
+    /// Node `i` in use (its force and motion zero when it is new).
+    fn touch(&mut self, i: usize) {
+        if !self.used[i] {
+            self.used[i] = true;
+            self.nodes.push(i);
+            self.force[i] = [0.0; 3];
+            self.motion[i] = [[0.0; 4]; 3];
+        }
+    }
+
+    /// The deck motion of every node in use from the node values and `modal` (`(q, q̇, q̈, 0)`
+    /// of each mode), two nodes at a time; sorts the nodes.
+    fn node_motions(&mut self, values: &[[f64; 3]], nb: usize, modal: &[[f64; 4]]) {
+        self.nodes.sort_unstable();
+        let of = |i: usize| &values[i * nb..(i + 1) * nb];
+        for pair in self.nodes.chunks(2) {
+            if let [a, b] = *pair {
+                let mut acc = [self.motion[a], self.motion[b]];
+                crate::simd::rail_accumulate_pair(&mut acc, [of(a), of(b)], modal);
+                [self.motion[a], self.motion[b]] = acc;
+            } else {
+                crate::simd::rail_accumulate(&mut self.motion[pair[0]], of(pair[0]), modal);
+            }
+        }
+    }
+
+    /// The deck motion `(u, u̇, ü)` (deck components) at a stencil from the node motions.
+    fn deck_motion(&self, st: &Stencil) -> [[f64; 3]; 3] {
+        let mut d = [[0.0; 3]; 3];
+        for j in 0..st.k {
+            let m = &self.motion[st.start + j];
+            for (dd, out) in d.iter_mut().enumerate() {
+                for (c, o) in out.iter_mut().enumerate() {
+                    *o += st.w[j] * m[c][dd];
+                }
+            }
+        }
+        d
+    }
+}
+
 /// Rail shapes and track irregularity at the last two positions of each wheelset slot (the
 /// positions at the start and at the end of the current step are what an iterating master
-/// asks for).
+/// asks for). For nodal shapes an entry keeps the Lagrange stencil instead of the shapes.
 #[derive(Debug, Default)]
 struct ShapeCache {
     /// Per slot: two entries (x bits, on deck, offset into `psi`).
     keys: Vec<[(u64, bool); 2]>,
     psi: Vec<[f64; 3]>,
+    /// Per entry, for nodal shapes: the stencil ([`ModalBridge::nodal_stencil`]).
+    stencils: Vec<Stencil>,
     /// Per slot and entry: the irregularity at that position.
     irregularity: Vec<[RailIrregularity; 2]>,
     next: Vec<usize>,
@@ -815,6 +981,7 @@ impl ShapeCache {
             self.keys.resize(n, [(f64::NAN.to_bits(), false); 2]);
             self.next.resize(n, 0);
             self.psi.resize(2 * n * nb, [0.0; 3]);
+            self.stencils.resize(2 * n, Stencil::default());
             self.irregularity
                 .resize(n, [RailIrregularity::default(); 2]);
         }
@@ -866,6 +1033,15 @@ impl ShapeCache {
     /// The shapes of entries `(2 w + slot, x)` (ascending entries) into `psi` and their
     /// on-deck flags into `keys`.
     fn shapes_of(&mut self, bridge: &ModalBridge, nb: usize, pending: &[(usize, f64)]) {
+        if bridge.nodal_values().is_some() {
+            for &(entry, x) in pending {
+                let st = bridge.nodal_stencil(x);
+                self.keys[entry / 2][entry % 2].1 = st.is_some();
+                self.stencils[entry] =
+                    st.map_or(Stencil::default(), |(start, w, k)| Stencil { start, w, k });
+            }
+            return;
+        }
         let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
         let mut xs = [0.0; SHAPE_LANES];
         let mut rest = &mut self.psi[..];
@@ -891,15 +1067,31 @@ impl ShapeCache {
     /// The entry of wheelset slot `w` at `x` (made by [`Self::fill`] or [`Self::claim`]; `nb`
     /// modes): on deck, rail shapes, irregularity.
     fn entry(&self, nb: usize, w: usize, x: f64) -> (bool, &[[f64; 3]], &RailIrregularity) {
-        let bits = x.to_bits();
-        let slot = self.keys[w]
-            .iter()
-            .position(|k| k.0 == bits)
-            .expect("the shape cache was filled for these positions");
+        let slot = self.slot(w, x);
         let range = (2 * w + slot) * nb..(2 * w + slot + 1) * nb;
         (
             self.keys[w][slot].1,
             &self.psi[range],
+            &self.irregularity[w][slot],
+        )
+    }
+
+    /// The slot of wheelset `w`'s entry at `x` (made by [`Self::fill`] or [`Self::claim`]).
+    fn slot(&self, w: usize, x: f64) -> usize {
+        let bits = x.to_bits();
+        self.keys[w]
+            .iter()
+            .position(|k| k.0 == bits)
+            .expect("the shape cache was filled for these positions")
+    }
+
+    /// For nodal shapes, the entry of wheelset slot `w` at `x`: its stencil (None off the
+    /// deck) and the irregularity there.
+    fn stencil(&self, w: usize, x: f64) -> (Option<&Stencil>, &RailIrregularity) {
+        let slot = self.slot(w, x);
+        let on = self.keys[w][slot].1;
+        (
+            on.then(|| &self.stencils[2 * w + slot]),
             &self.irregularity[w][slot],
         )
     }
