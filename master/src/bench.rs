@@ -5,8 +5,10 @@
 //!    70 km/h with dt = 0.005 s: wall time, steps per second, simulated/wall time.
 //! 2. The same case by implicit co-simulation of the two FMUs: wall time over the
 //!    monolithic wall time.
-//! 3. The scale case: the same bridge with 200 modes under 32 coaches (128 wheelsets), both
-//!    solvers, simulated/wall time.
+//! 3. The scale case: the Tsing Ma finite-element model's lowest 200 modes under 32 coaches
+//!    (128 wheelsets) at 70 km/h with dt = 0.005 s, the track and coupling of the bench case,
+//!    both solvers, simulated/wall time (the modes computed before the clock starts; item 5
+//!    measures the eigen-solution).
 //! 4. Cost growth: seconds of wall time per simulated second for modes 20/50/100/200 ×
 //!    coaches 1/8/32, both solvers (the bench case at 300 km/h, so each run is short).
 //! 5. The Tsing Ma finite-element model: assembly plus the lowest 50 modes.
@@ -84,6 +86,40 @@ irregularity = { spectrum = "chinese-main-line", seed = 1, lambda_min_m = 2.0, l
 [[probe]]
 name = "mid"
 x_m = 1000.0
+[coupling]
+scheme = "implicit"
+acceleration = "iqn-ils"
+relaxation = 1.0
+reuse_steps = 8
+atol = 1e-8
+"#;
+
+/// The scale case (item 3 of the module docs).
+pub const SCALE_SCENARIO: &str = r#"
+name = "scale-tsing-ma-200"
+[run]
+speed_kmh = 70.0
+dt_s = 0.005
+solver = "monolithic"
+free_vibration_s = 0.0
+output_every = 1000000
+[bridge]
+kind = "suspension"
+preset = "tsing-ma"
+modes = 200
+damping_ratio = 0.01
+damping_ratio_torsional = 0.005
+track_eccentricity_m = 2.05
+track_height_m = 1.25
+[train]
+kind = "coach_27dof"
+preset = "xia2000"
+vehicles = 32
+[track]
+irregularity = { spectrum = "chinese-main-line", seed = 1, lambda_min_m = 2.0, lambda_max_m = 80.0 }
+[[probe]]
+name = "mid"
+x_m = 1141.0
 [coupling]
 scheme = "implicit"
 acceleration = "iqn-ils"
@@ -187,11 +223,11 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     );
     if !args.quick {
         use crate::scenario::SolverKind::{Cosim, Monolithic};
-        let scale = variant(200, 32, 70.0)?;
+        let scale = Scenario::from_toml(SCALE_SCENARIO, "<scale scenario>", Path::new("."))?;
         let (mw, ms, _) = measure(&scale, Monolithic, &args.out.join("scale-monolithic"))?;
         let (cw, cs, _) = measure(&scale, Cosim, &args.out.join("scale-cosim"))?;
         println!(
-            "scale case (200 modes, 32 coaches = 128 wheelsets): simulated/wall monolithic {:.1}, co-simulation {:.1}",
+            "scale case (Tsing Ma, 200 modes, 32 coaches = 128 wheelsets): simulated/wall monolithic {:.1}, co-simulation {:.1}",
             ms / mw,
             cs / cw
         );
@@ -338,4 +374,24 @@ fn write_figures(
         println!("figures in {}", path.display());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The embedded scenarios are valid: a mistake in one would otherwise surface only in a
+    /// bench run.
+    #[test]
+    fn the_bench_scenarios_are_valid() {
+        for (name, text) in [
+            ("bench", BENCH_SCENARIO),
+            ("scale", SCALE_SCENARIO),
+            ("hslm", HSLM_SPAN),
+        ] {
+            if let Err(e) = Scenario::from_toml(text, name, Path::new(".")) {
+                panic!("{name}: {e}");
+            }
+        }
+    }
 }
