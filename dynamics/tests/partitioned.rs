@@ -146,15 +146,17 @@ fn converged_partitions_equal_monolithic() {
     assert!(max_rel < 2.5e-11, "partitioned vs monolithic: {max_rel:e}");
 }
 
-/// For nodal shapes the bridge side works through the nodes (each node in use projected and
-/// moved once, the wheelsets combining their stencils' nodes): its rail motion under every
-/// wheelset equals the irregularity's plus `Ψ(x)(q, q̇, q̈)`, and its generalised forces
-/// `Σ Ψ(x)ᵀ f`, with `Ψ(x)` the rail shapes evaluated at each wheelset, to round-off; the
-/// single-wheelset `rail` gives `rails` bit for bit. Uneven nodes, a track off the shear
-/// centre, wheelsets off the deck, at its ends, on a node, between nodes and sharing a
-/// stencil.
+/// The bridge side works through the shapes' own basis — nodal shapes through the nodes
+/// (each node in use projected and moved once, the wheelsets combining their stencils'
+/// nodes), sine shapes through the half-wave numbers (`Σ sin(kθ) Rᵀ f` per `k`, the modes'
+/// motion gathered per `k`): its rail motion under every wheelset equals the
+/// irregularity's plus `Ψ(x)(q, q̇, q̈)`, and its generalised forces `Σ Ψ(x)ᵀ f`, with `Ψ(x)`
+/// the rail shapes evaluated at each wheelset, to round-off; the single-wheelset `rail`
+/// gives `rails` bit for bit. Uneven nodes, sine modes sharing half-wave numbers (and one
+/// mixing components), a track off the shear centre, wheelsets off the deck, at its ends,
+/// on a node, between nodes and sharing a stencil.
 #[test]
-fn nodal_shapes_through_the_nodes_equal_the_shapes_at_each_wheelset() {
+fn the_bridge_side_through_its_basis_equals_the_shapes_at_each_wheelset() {
     use tbi_dynamics::bridge::{ModalBridge, Shapes};
     let nb = 7;
     let x_m: Vec<f64> = [0.0, 9.0, 20.0, 28.0, 41.0, 50.0, 63.0, 70.0, 84.0]
@@ -167,7 +169,7 @@ fn nodal_shapes_through_the_nodes_equal_the_shapes_at_each_wheelset() {
             [0.3 * v(0.1), v(1.3), 0.05 * v(2.9)]
         })
         .collect();
-    let bridge = ModalBridge {
+    let nodal = ModalBridge {
         x_start_m: 100.0,
         x_end_m: 184.0,
         frequencies_hz: (1..=nb).map(|n| 0.7 * n as f64).collect(),
@@ -183,6 +185,27 @@ fn nodal_shapes_through_the_nodes_equal_the_shapes_at_each_wheelset() {
         steady_modal_force: Vec::new(),
         buffeting: None,
     };
+    let mut sine = nodal.clone();
+    sine.shapes = Shapes::Sine {
+        span_m: 84.0,
+        half_waves: vec![1, 1, 2, 1, 3, 2, 5],
+        amplitudes: vec![
+            [0.0, 0.8, 0.0],
+            [0.5, 0.0, 0.0],
+            [0.0, 0.7, 0.0],
+            [0.0, 0.0, 0.06],
+            [0.0, 0.9, 0.0],
+            [0.2, 0.0, 0.03],
+            [0.0, 0.6, 0.0],
+        ],
+    };
+    for bridge in [nodal, sine] {
+        through_the_basis(bridge);
+    }
+}
+
+fn through_the_basis(bridge: tbi_dynamics::bridge::ModalBridge) {
+    let nb = bridge.n_modes();
     let xs = [
         90.0, 100.0, 103.7, 106.2, 120.0, 120.0, 131.5, 150.0, 151.1, 183.9, 184.0, 190.0,
     ];

@@ -22,6 +22,10 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Sine shapes' half-wave number and deck amplitudes of each mode, and the largest half-wave
+/// number ([`ModalBridge::sine_modes`]).
+pub type SineModes<'a> = (&'a [u32], &'a [[f64; 3]], usize);
+
 /// How many positions [`ModalBridge::rail_shapes_lanes`] takes at once.
 pub const SHAPE_LANES: usize = 4;
 
@@ -315,6 +319,70 @@ impl ModalBridge {
         match &self.shapes {
             Shapes::Nodal { x_m, values, .. } => Some((values, x_m.len())),
             Shapes::Sine { .. } => None,
+        }
+    }
+
+    /// Sine shapes: each mode's half-wave number `k` and deck amplitudes `a`
+    /// (`φ(x) = a sin(k π (x − x_start)/span)`), and the largest `k`. None for nodal shapes.
+    pub fn sine_modes(&self) -> Option<SineModes<'_>> {
+        match &self.shapes {
+            Shapes::Sine {
+                half_waves,
+                amplitudes,
+                ..
+            } => Some((
+                half_waves,
+                amplitudes,
+                half_waves.iter().copied().max().unwrap_or(0) as usize,
+            )),
+            Shapes::Nodal { .. } => None,
+        }
+    }
+
+    /// Sine shapes at up to [`SHAPE_LANES`] positions: `outs[j][k] = sin(k θⱼ)` for
+    /// `k = 0 ..= kmax` ([`Self::sine_modes`]), `θⱼ = π (xs[j] − x_start)/span`, the values
+    /// [`Self::rail_shapes_lanes`] combines (bit for bit); `on[j]` whether `xs[j]` is on the
+    /// deck (zeros off it). `scratch` as there.
+    pub fn sines_lanes(
+        &self,
+        xs: &[f64],
+        outs: &mut [&mut [f64]],
+        on: &mut [bool],
+        scratch: &mut Vec<[f64; SHAPE_LANES]>,
+    ) {
+        let m = xs.len();
+        assert!(m <= SHAPE_LANES && outs.len() >= m && on.len() >= m);
+        let Shapes::Sine {
+            span_m, half_waves, ..
+        } = &self.shapes
+        else {
+            panic!("sines of nodal shapes");
+        };
+        let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
+        scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
+        let s = &mut scratch[..=kmax];
+        s[0] = [0.0; SHAPE_LANES];
+        let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+        for j in 0..m {
+            on[j] = self.on_deck(xs[j]);
+            if on[j] && kmax >= 1 {
+                let theta = std::f64::consts::PI * (xs[j] - self.x_start_m) / span_m;
+                sin1[j] = theta.sin();
+                c2[j] = 2.0 * theta.cos();
+            }
+        }
+        if kmax >= 1 {
+            chebyshev_sines(sin1, c2, s);
+        }
+        for j in 0..m {
+            let out = &mut outs[j][..=kmax];
+            if on[j] {
+                for (o, sk) in out.iter_mut().zip(s.iter()) {
+                    *o = sk[j];
+                }
+            } else {
+                out.fill(0.0);
+            }
         }
     }
 

@@ -200,19 +200,6 @@ impl BridgeSide {
         }
     }
 
-    /// Run `f` with the rail shapes of wheelset slot `w` at `x` (on deck, Ψ) and the track
-    /// irregularity there.
-    fn with_shapes<R>(
-        &self,
-        w: usize,
-        x: f64,
-        f: impl FnOnce(bool, &[[f64; 3]], &RailIrregularity) -> R,
-    ) -> R {
-        let nb = self.omega.len();
-        let mut c = self.cache.lock().expect("shape cache");
-        c.get(&self.bridge, &*self.track, nb, w, x, f)
-    }
-
     /// Generalised forces `Σ Ψ(x_w)ᵀ f_w`.
     fn modal_force(&mut self, inputs: &[WheelInput]) -> Vec<f64> {
         let mut fq = Vec::new();
@@ -220,19 +207,41 @@ impl BridgeSide {
         fq
     }
 
-    /// [`Self::modal_force`] into `fq` (resized to the modes).
+    /// [`Self::modal_force`] into `fq` (resized to the modes), through the shapes' own basis
+    /// (`R` the rail map [`ModalBridge::rail_of`], so `Ψ(x)ᵀ f = φ(x)ᵀ (Rᵀ f)`):
     ///
-    /// For nodal shapes through the nodes: `Ψ(x)ᵀ f = Σⱼ wⱼ φⱼᵀ (Rᵀ f)` (`R` the rail map
-    /// [`ModalBridge::rail_of`], `φⱼ` the node values of the stencil at `x`), so the
-    /// wheelsets' forces are first gathered at the nodes of their stencils and each node in
-    /// use is projected once: a pass over the modes per node instead of per wheelset, and
+    /// * nodal shapes, `φ(x) = Σⱼ wⱼ φⱼ` over the Lagrange stencil at `x`: the wheelsets'
+    ///   `Rᵀ f` gathered at the nodes of their stencils, each node in use projected once;
+    /// * sine shapes, `φₙ(x) = aₙ sin(kₙ θ)`: `Hₖ = Σ_w sin(k θ_w) Rᵀ f_w` for each
+    ///   half-wave number `k`, then `Fₙ = aₙ · H_{kₙ}`.
+    ///
+    /// Either way a pass over the modes per node or per mode instead of per wheelset, and
     /// no shapes to evaluate.
     fn modal_force_into(&mut self, inputs: &[WheelInput], fq: &mut Vec<f64>) {
         let nb = self.omega.len();
         fq.clear();
         fq.resize(nb, 0.0);
         let mut c = self.cache.lock().expect("shape cache");
-        c.fill(&self.bridge, &*self.track, nb, inputs);
+        c.fill(&self.bridge, &*self.track, inputs);
+        if let Some((half_waves, amplitudes, kmax)) = self.bridge.sine_modes() {
+            let h = self.nodes.zeroed(kmax + 1);
+            for (w, wi) in inputs.iter().enumerate() {
+                if let (Some(sines), _) = c.sines(w, wi.x) {
+                    let g = self.bridge.deck_force_of(wi.f);
+                    for (hk, &sk) in h.iter_mut().zip(sines) {
+                        for (hc, gc) in hk.iter_mut().zip(g) {
+                            *hc += sk * gc;
+                        }
+                    }
+                }
+            }
+            let h = &self.nodes.force;
+            for ((o, &k), a) in fq.iter_mut().zip(half_waves).zip(amplitudes) {
+                let hk = h[k as usize];
+                *o += a[0] * hk[0] + a[1] * hk[1] + a[2] * hk[2];
+            }
+            return;
+        }
         if let Some((values, n_nodes)) = self.bridge.nodal_values() {
             let ns = &mut self.nodes;
             ns.begin(n_nodes);
@@ -251,12 +260,6 @@ impl BridgeSide {
             ns.nodes.sort_unstable();
             for &i in &ns.nodes {
                 crate::simd::project_force(fq, &values[i * nb..(i + 1) * nb], ns.force[i]);
-            }
-            return;
-        }
-        for (w, wi) in inputs.iter().enumerate() {
-            if let (true, psi, _) = c.entry(nb, w, wi.x) {
-                crate::simd::project_force(fq, psi, wi.f);
             }
         }
     }
@@ -304,103 +307,30 @@ impl BridgeSide {
     /// Rail motion (u, u̇, ü) under wheelset slot `w` at `x`, moving at `vx`: deck plus
     /// irregularity.
     pub fn rail(&mut self, w: usize, x: f64, vx: f64) -> [Vector3<f64>; 3] {
-        if self.bridge.nodal_values().is_some() {
-            let input = WheelInput { x, vx, f: [0.0; 3] };
-            let mut out = [Vector3::zeros(); 3];
-            self.rails_nodal(std::slice::from_ref(&input), Some(w), |_, r| out = *r);
-            return out;
-        }
-        let s = &self.state;
-        self.with_shapes(w, x, |on, psi, irregularity| {
-            let mut r = rail_motion(irregularity, vx);
-            if on {
-                for (n, p) in psi.iter().enumerate() {
-                    for k in 0..3 {
-                        r[0][k] += p[k] * s.q[n];
-                        r[1][k] += p[k] * s.qd[n];
-                        r[2][k] += p[k] * s.qdd[n];
-                    }
-                }
-            }
-            r
-        })
+        let input = WheelInput { x, vx, f: [0.0; 3] };
+        let mut out = [Vector3::zeros(); 3];
+        self.rails_of(std::slice::from_ref(&input), Some(w), |_, r| out = *r);
+        out
     }
 
-    /// [`Self::rail`] under every wheelset, wheelset `w` at `inputs[w]`: `f(w, motion)`. The
-    /// same sums in the same order, with `(q, q̇, q̈)` of a mode side by side.
-    pub fn rails(&mut self, inputs: &[WheelInput], mut f: impl FnMut(usize, &[Vector3<f64>; 3])) {
-        if self.bridge.nodal_values().is_some() {
-            return self.rails_nodal(inputs, None, f);
-        }
-        let nb = self.omega.len();
-        let s = &self.state;
-        self.modal.clear();
-        self.modal
-            .extend((s.q.iter().zip(&s.qd).zip(&s.qdd)).map(|((&q, &qd), &qdd)| [q, qd, qdd, 0.0]));
-        let modal = &self.modal;
-        let mut c = self.cache.lock().expect("shape cache");
-        c.fill(&self.bridge, &*self.track, nb, inputs);
-        // acc[k][d]: component k of the d-th derivative, starting from the irregularity
-        let start = |r: &[Vector3<f64>; 3]| {
-            let mut acc = [[0.0; 4]; 3];
-            for (k, a) in acc.iter_mut().enumerate() {
-                for d in 0..3 {
-                    a[d] = r[d][k];
-                }
-            }
-            acc
-        };
-        let finish = |r: &mut [Vector3<f64>; 3], acc: &[[f64; 4]; 3]| {
-            for (k, a) in acc.iter().enumerate() {
-                for d in 0..3 {
-                    r[d][k] = a[d];
-                }
-            }
-        };
-        // two wheelsets at a time: their sums are independent
-        for (p, pair) in inputs.chunks(2).enumerate() {
-            let mut r = [[Vector3::zeros(); 3]; 2];
-            let mut acc = [[[0.0; 4]; 3]; 2];
-            let mut on = [false; 2];
-            let mut psi: [&[[f64; 3]]; 2] = [&[], &[]];
-            for (i, wi) in pair.iter().enumerate() {
-                let (o, shapes, irregularity) = c.entry(nb, 2 * p + i, wi.x);
-                r[i] = rail_motion(irregularity, wi.vx);
-                acc[i] = start(&r[i]);
-                (on[i], psi[i]) = (o, shapes);
-            }
-            match (on, pair.len()) {
-                ([true, true], 2) => crate::simd::rail_accumulate_pair(&mut acc, psi, modal),
-                _ => {
-                    for i in 0..pair.len() {
-                        if on[i] {
-                            crate::simd::rail_accumulate(&mut acc[i], psi[i], modal);
-                        }
-                    }
-                }
-            }
-            for i in 0..pair.len() {
-                if on[i] {
-                    finish(&mut r[i], &acc[i]);
-                }
-                f(2 * p + i, &r[i]);
-            }
-        }
+    /// [`Self::rail`] under every wheelset, wheelset `w` at `inputs[w]`: `f(w, motion)`.
+    pub fn rails(&mut self, inputs: &[WheelInput], f: impl FnMut(usize, &[Vector3<f64>; 3])) {
+        self.rails_of(inputs, None, f)
     }
 
-    /// [`Self::rails`] for nodal shapes, through the nodes: the deck motion of each node in
-    /// use once, `(φ q, φ q̇, φ q̈)` at the node, then at each wheelset the stencil's
-    /// combination of its nodes' motion, mapped to the rail ([`ModalBridge::rail_of`]) and
-    /// added to the irregularity's. The inputs are those of wheelset slots `0, 1, …`, or of
-    /// slot `slot` alone.
-    fn rails_nodal(
+    /// [`Self::rails`] through the shapes' own basis: the deck motion `(φ q, φ q̇, φ q̈)` of
+    /// each basis function once — at each node in use (nodal shapes), or
+    /// `Bₖ = Σ_{kₙ = k} aₙ (qₙ, q̇ₙ, q̈ₙ)` for each half-wave number `k` (sine shapes) — then
+    /// at each wheelset its combination (the stencil's weights, or `sin(k θ)`), mapped to the
+    /// rail ([`ModalBridge::rail_of`]) and added to the irregularity's. The inputs are those
+    /// of wheelset slots `0, 1, …`, or of slot `slot` alone.
+    fn rails_of(
         &mut self,
         inputs: &[WheelInput],
         slot: Option<usize>,
         mut f: impl FnMut(usize, &[Vector3<f64>; 3]),
     ) {
         let nb = self.omega.len();
-        let (values, n_nodes) = self.bridge.nodal_values().expect("nodal shapes");
         let s = &self.state;
         self.modal.clear();
         self.modal
@@ -409,13 +339,46 @@ impl BridgeSide {
         let mut c = self.cache.lock().expect("shape cache");
         match slot {
             Some(w) => {
-                c.reserve(w + 1, nb);
+                c.reserve(w + 1);
                 if let Some(p) = c.claim(&*self.track, w, inputs[0].x) {
-                    c.shapes_of(&self.bridge, nb, &[p]);
+                    c.shapes_of(&self.bridge, &[p]);
                 }
             }
-            None => c.fill(&self.bridge, &*self.track, nb, inputs),
+            None => c.fill(&self.bridge, &*self.track, inputs),
         }
+        if let Some((half_waves, amplitudes, kmax)) = self.bridge.sine_modes() {
+            self.nodes.zeroed(kmax + 1);
+            let b = &mut self.nodes.motion;
+            for ((&k, a), m) in half_waves.iter().zip(amplitudes).zip(&self.modal) {
+                let bk = &mut b[k as usize];
+                for (bc, ac) in bk.iter_mut().zip(a) {
+                    for (v, md) in bc.iter_mut().zip(m) {
+                        *v += ac * md;
+                    }
+                }
+            }
+            for (w, wi) in inputs.iter().enumerate() {
+                let (sines, irregularity) = c.sines(slot_of(w), wi.x);
+                let mut r = rail_motion(irregularity, wi.vx);
+                if let Some(sines) = sines {
+                    let mut acc = [[0.0; 4]; 3];
+                    for (sk, bk) in sines.iter().zip(b.iter()) {
+                        for (ac, bc) in acc.iter_mut().zip(bk) {
+                            for (v, bv) in ac.iter_mut().zip(bc) {
+                                *v += sk * bv;
+                            }
+                        }
+                    }
+                    for (d, rd) in r.iter_mut().enumerate() {
+                        *rd +=
+                            Vector3::from(self.bridge.rail_of([acc[0][d], acc[1][d], acc[2][d]]));
+                    }
+                }
+                f(slot_of(w), &r);
+            }
+            return;
+        }
+        let (values, n_nodes) = self.bridge.nodal_values().expect("nodal shapes");
         let ns = &mut self.nodes;
         ns.begin(n_nodes);
         for (w, wi) in inputs.iter().enumerate() {
@@ -874,9 +837,9 @@ struct Stencil {
     k: usize,
 }
 
-/// Scratch of the nodal path ([`BridgeSide::modal_force_into`], [`BridgeSide::rails`]): per
-/// node the wheelsets' forces gathered there (deck components) and the deck motion
-/// `(φ q, φ q̇, φ q̈)` there, and the nodes in use, ascending once sorted.
+/// Scratch of [`BridgeSide::modal_force_into`] and [`BridgeSide::rails`]: per basis function
+/// (node, or half-wave number) the wheelsets' forces gathered there (deck components) and
+/// the deck motion `(φ q, φ q̇, φ q̈)` there, and the nodes in use, ascending once sorted.
 #[derive(Debug, Default)]
 struct NodeScratch {
     force: Vec<[f64; 3]>,
@@ -897,6 +860,18 @@ impl NodeScratch {
             self.force.resize(n, [0.0; 3]);
             self.motion.resize(n, [[0.0; 4]; 3]);
         }
+    }
+
+    /// Every basis function `0..n` zero (the half-wave numbers of sine shapes, all in use);
+    /// the forces.
+    fn zeroed(&mut self, n: usize) -> &mut [[f64; 3]] {
+        self.force.clear();
+        self.force.resize(n, [0.0; 3]);
+        self.motion.clear();
+        self.motion.resize(n, [[0.0; 4]; 3]);
+        self.used.clear();
+        self.nodes.clear();
+        &mut self.force
     }
 
     /// Node `i` in use (its force and motion zero when it is new).
@@ -940,22 +915,24 @@ impl NodeScratch {
     }
 }
 
-/// Rail shapes and track irregularity at the last two positions of each wheelset slot (the
-/// positions at the start and at the end of the current step are what an iterating master
-/// asks for). For nodal shapes an entry keeps the Lagrange stencil instead of the shapes.
+/// The shapes' basis and the track irregularity at the last two positions of each wheelset
+/// slot (the positions at the start and at the end of the current step are what an iterating
+/// master asks for): for nodal shapes the Lagrange stencil, for sine shapes `sin(k θ)`.
 #[derive(Debug, Default)]
 struct ShapeCache {
-    /// Per slot: two entries (x bits, on deck, offset into `psi`).
+    /// Per slot: two entries (x bits, on deck); entry `2 w + slot`.
     keys: Vec<[(u64, bool); 2]>,
-    psi: Vec<[f64; 3]>,
     /// Per entry, for nodal shapes: the stencil ([`ModalBridge::nodal_stencil`]).
     stencils: Vec<Stencil>,
+    /// Per entry, for sine shapes: `sin(k θ)`, `k = 0 ..= kmax` (`stride = kmax + 1` values).
+    sines: Vec<f64>,
+    stride: usize,
     /// Per slot and entry: the irregularity at that position.
     irregularity: Vec<[RailIrregularity; 2]>,
     next: Vec<usize>,
     /// Deck shapes at the probe positions asked for (x bits, shapes).
     probes: Vec<(u64, Vec<[f64; 3]>)>,
-    /// Scratch of [`ModalBridge::rail_shapes_lanes`].
+    /// Scratch of [`ModalBridge::sines_lanes`].
     lanes: Vec<[f64; SHAPE_LANES]>,
 }
 
@@ -976,28 +953,20 @@ impl ShapeCache {
     }
 
     /// Room for wheelset slots `0..n`.
-    fn reserve(&mut self, n: usize, nb: usize) {
+    fn reserve(&mut self, n: usize) {
         if self.keys.len() < n {
             self.keys.resize(n, [(f64::NAN.to_bits(), false); 2]);
             self.next.resize(n, 0);
-            self.psi.resize(2 * n * nb, [0.0; 3]);
             self.stencils.resize(2 * n, Stencil::default());
             self.irregularity
                 .resize(n, [RailIrregularity::default(); 2]);
         }
     }
 
-    /// Makes the entries of every wheelset slot `w` at `inputs[w].x`, as [`Self::get`] would
-    /// one at a time (the same entries, values and replacements), the shapes of the misses
-    /// [`SHAPE_LANES`] at a time ([`ModalBridge::rail_shapes_lanes`]).
-    fn fill(
-        &mut self,
-        bridge: &ModalBridge,
-        track: &dyn RailProfile,
-        nb: usize,
-        inputs: &[WheelInput],
-    ) {
-        self.reserve(inputs.len(), nb);
+    /// Makes the entries of every wheelset slot `w` at `inputs[w].x` ([`Self::claim`]), the
+    /// basis of the misses [`SHAPE_LANES`] at a time ([`Self::shapes_of`]).
+    fn fill(&mut self, bridge: &ModalBridge, track: &dyn RailProfile, inputs: &[WheelInput]) {
+        self.reserve(inputs.len());
         let mut pending = [(0usize, 0.0f64); SHAPE_LANES];
         let mut m = 0;
         for (w, wi) in inputs.iter().enumerate() {
@@ -1005,13 +974,13 @@ impl ShapeCache {
                 pending[m] = p;
                 m += 1;
                 if m == SHAPE_LANES {
-                    self.shapes_of(bridge, nb, &pending);
+                    self.shapes_of(bridge, &pending);
                     m = 0;
                 }
             }
         }
         if m > 0 {
-            self.shapes_of(bridge, nb, &pending[..m]);
+            self.shapes_of(bridge, &pending[..m]);
         }
     }
 
@@ -1030,50 +999,44 @@ impl ShapeCache {
         Some((2 * w + s, x))
     }
 
-    /// The shapes of entries `(2 w + slot, x)` (ascending entries) into `psi` and their
-    /// on-deck flags into `keys`.
-    fn shapes_of(&mut self, bridge: &ModalBridge, nb: usize, pending: &[(usize, f64)]) {
-        if bridge.nodal_values().is_some() {
-            for &(entry, x) in pending {
-                let st = bridge.nodal_stencil(x);
-                self.keys[entry / 2][entry % 2].1 = st.is_some();
-                self.stencils[entry] =
-                    st.map_or(Stencil::default(), |(start, w, k)| Stencil { start, w, k });
+    /// The basis of entries `(2 w + slot, x)` (ascending entries, at most [`SHAPE_LANES`])
+    /// and their on-deck flags into `keys`.
+    fn shapes_of(&mut self, bridge: &ModalBridge, pending: &[(usize, f64)]) {
+        if let Some((_, _, kmax)) = bridge.sine_modes() {
+            let stride = kmax + 1;
+            let need = 2 * self.keys.len() * stride;
+            if self.stride != stride || self.sines.len() < need {
+                self.stride = stride;
+                self.sines.resize(need, 0.0);
+            }
+            let mut outs: [&mut [f64]; SHAPE_LANES] = Default::default();
+            let mut xs = [0.0; SHAPE_LANES];
+            let mut rest = &mut self.sines[..];
+            let mut base = 0;
+            for (j, &(entry, x)) in pending.iter().enumerate() {
+                let tail = std::mem::take(&mut rest)
+                    .split_at_mut((entry - base) * stride)
+                    .1;
+                let (this, tail) = tail.split_at_mut(stride);
+                outs[j] = this;
+                rest = tail;
+                base = entry + 1;
+                xs[j] = x;
+            }
+            let m = pending.len();
+            let mut on = [false; SHAPE_LANES];
+            bridge.sines_lanes(&xs[..m], &mut outs[..m], &mut on, &mut self.lanes);
+            for (&(entry, _), on) in pending.iter().zip(on) {
+                self.keys[entry / 2][entry % 2].1 = on;
             }
             return;
         }
-        let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
-        let mut xs = [0.0; SHAPE_LANES];
-        let mut rest = &mut self.psi[..];
-        let mut base = 0;
-        for (j, &(entry, x)) in pending.iter().enumerate() {
-            let tail = std::mem::take(&mut rest)
-                .split_at_mut((entry - base) * nb)
-                .1;
-            let (this, tail) = tail.split_at_mut(nb);
-            outs[j] = this;
-            rest = tail;
-            base = entry + 1;
-            xs[j] = x;
+        for &(entry, x) in pending {
+            let st = bridge.nodal_stencil(x);
+            self.keys[entry / 2][entry % 2].1 = st.is_some();
+            self.stencils[entry] =
+                st.map_or(Stencil::default(), |(start, w, k)| Stencil { start, w, k });
         }
-        let m = pending.len();
-        let mut on = [false; SHAPE_LANES];
-        bridge.rail_shapes_lanes(&xs[..m], &mut outs[..m], &mut on, &mut self.lanes);
-        for (&(entry, _), on) in pending.iter().zip(on) {
-            self.keys[entry / 2][entry % 2].1 = on;
-        }
-    }
-
-    /// The entry of wheelset slot `w` at `x` (made by [`Self::fill`] or [`Self::claim`]; `nb`
-    /// modes): on deck, rail shapes, irregularity.
-    fn entry(&self, nb: usize, w: usize, x: f64) -> (bool, &[[f64; 3]], &RailIrregularity) {
-        let slot = self.slot(w, x);
-        let range = (2 * w + slot) * nb..(2 * w + slot + 1) * nb;
-        (
-            self.keys[w][slot].1,
-            &self.psi[range],
-            &self.irregularity[w][slot],
-        )
     }
 
     /// The slot of wheelset `w`'s entry at `x` (made by [`Self::fill`] or [`Self::claim`]).
@@ -1096,20 +1059,16 @@ impl ShapeCache {
         )
     }
 
-    fn get<R>(
-        &mut self,
-        bridge: &ModalBridge,
-        track: &dyn RailProfile,
-        nb: usize,
-        w: usize,
-        x: f64,
-        f: impl FnOnce(bool, &[[f64; 3]], &RailIrregularity) -> R,
-    ) -> R {
-        self.reserve(w + 1, nb);
-        if let Some(p) = self.claim(track, w, x) {
-            self.shapes_of(bridge, nb, &[p]);
-        }
-        let (on, psi, irregularity) = self.entry(nb, w, x);
-        f(on, psi, irregularity)
+    /// For sine shapes, the entry of wheelset slot `w` at `x`: `sin(k θ)` (None off the
+    /// deck) and the irregularity there.
+    fn sines(&self, w: usize, x: f64) -> (Option<&[f64]>, &RailIrregularity) {
+        let slot = self.slot(w, x);
+        let e = 2 * w + slot;
+        (
+            self.keys[w][slot]
+                .1
+                .then(|| &self.sines[e * self.stride..(e + 1) * self.stride]),
+            &self.irregularity[w][slot],
+        )
     }
 }
