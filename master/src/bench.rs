@@ -53,17 +53,75 @@ pub struct BenchArgs {
     pub repeat: u32,
 }
 
-/// The benchmark scenario (see the module docs).
-pub const BENCH_SCENARIO: &str = r#"
-name = "bench-2000m"
-[run]
+/// The `[run]` table of the bench and scale scenarios.
+macro_rules! bench_run {
+    () => {
+        r#"[run]
 speed_kmh = 70.0
 dt_s = 0.005
 solver = "monolithic"
 free_vibration_s = 0.0
 output_every = 1000000
-[bridge]
-kind = "simply_supported"
+"#
+    };
+}
+
+/// The modal damping and track position of the bench and scale scenarios' bridges, and
+/// their coaches (the count follows).
+macro_rules! bench_damping_and_coaches {
+    () => {
+        r#"damping_ratio = 0.01
+damping_ratio_torsional = 0.005
+track_eccentricity_m = 2.05
+track_height_m = 1.25
+[train]
+kind = "coach_27dof"
+preset = "xia2000"
+"#
+    };
+}
+
+/// The `[track]` and `[coupling]` tables of the bench and scale scenarios.
+macro_rules! bench_track_and_coupling {
+    () => {
+        r#"[track]
+irregularity = { spectrum = "chinese-main-line", seed = 1, lambda_min_m = 2.0, lambda_max_m = 80.0 }
+[coupling]
+scheme = "implicit"
+acceleration = "iqn-ils"
+relaxation = 1.0
+reuse_steps = 8
+atol = 1e-8
+"#
+    };
+}
+
+/// A scenario of the bench's kind: `name`, the `[bridge]` table's own lines, the number of
+/// coaches and the probe's position.
+macro_rules! bench_like {
+    ($name:literal, $bridge:literal, $vehicles:literal, $probe_x_m:literal) => {
+        concat!(
+            "name = \"",
+            $name,
+            "\"\n",
+            bench_run!(),
+            "[bridge]\n",
+            $bridge,
+            bench_damping_and_coaches!(),
+            "vehicles = ",
+            $vehicles,
+            "\n[[probe]]\nname = \"mid\"\nx_m = ",
+            $probe_x_m,
+            "\n",
+            bench_track_and_coupling!()
+        )
+    };
+}
+
+/// The benchmark scenario (see the module docs).
+pub const BENCH_SCENARIO: &str = bench_like!(
+    "bench-2000m",
+    r#"kind = "simply_supported"
 span_m = 2000.0
 youngs_modulus_pa = 2.1e11
 inertia_vertical_m4 = 50.0
@@ -73,60 +131,21 @@ torsion_constant_m4 = 20.0
 polar_inertia_kg_m = 5.0e6
 mass_per_length_kg_m = 3.0e4
 modes = 20
-damping_ratio = 0.01
-damping_ratio_torsional = 0.005
-track_eccentricity_m = 2.05
-track_height_m = 1.25
-[train]
-kind = "coach_27dof"
-preset = "xia2000"
-vehicles = 8
-[track]
-irregularity = { spectrum = "chinese-main-line", seed = 1, lambda_min_m = 2.0, lambda_max_m = 80.0 }
-[[probe]]
-name = "mid"
-x_m = 1000.0
-[coupling]
-scheme = "implicit"
-acceleration = "iqn-ils"
-relaxation = 1.0
-reuse_steps = 8
-atol = 1e-8
-"#;
+"#,
+    "8",
+    "1000.0"
+);
 
-/// The scale case (item 3 of the module docs).
-pub const SCALE_SCENARIO: &str = r#"
-name = "scale-tsing-ma-200"
-[run]
-speed_kmh = 70.0
-dt_s = 0.005
-solver = "monolithic"
-free_vibration_s = 0.0
-output_every = 1000000
-[bridge]
-kind = "suspension"
+/// The scale case (item 3 of the module docs): the bench case's run, track and coupling.
+pub const SCALE_SCENARIO: &str = bench_like!(
+    "scale-tsing-ma-200",
+    r#"kind = "suspension"
 preset = "tsing-ma"
 modes = 200
-damping_ratio = 0.01
-damping_ratio_torsional = 0.005
-track_eccentricity_m = 2.05
-track_height_m = 1.25
-[train]
-kind = "coach_27dof"
-preset = "xia2000"
-vehicles = 32
-[track]
-irregularity = { spectrum = "chinese-main-line", seed = 1, lambda_min_m = 2.0, lambda_max_m = 80.0 }
-[[probe]]
-name = "mid"
-x_m = 1141.0
-[coupling]
-scheme = "implicit"
-acceleration = "iqn-ils"
-relaxation = 1.0
-reuse_steps = 8
-atol = 1e-8
-"#;
+"#,
+    "32",
+    "1141.0"
+);
 
 fn timed(s: &Scenario, out: &Path) -> Result<(f64, Summary), Box<dyn std::error::Error>> {
     let t = Instant::now();

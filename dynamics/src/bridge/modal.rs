@@ -268,22 +268,7 @@ impl ModalBridge {
             }
             return;
         };
-        let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
-        scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
-        let s = &mut scratch[..=kmax];
-        s[0] = [0.0; SHAPE_LANES];
-        let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
-        for j in 0..m {
-            on[j] = self.on_deck(xs[j]);
-            if on[j] && kmax >= 1 {
-                let theta = std::f64::consts::PI * (xs[j] - self.x_start_m) / span_m;
-                sin1[j] = theta.sin();
-                c2[j] = 2.0 * theta.cos();
-            }
-        }
-        if kmax >= 1 {
-            chebyshev_sines(sin1, c2, s);
-        }
+        let s = self.lane_sines(*span_m, half_waves, xs, on, scratch);
         for j in 0..m {
             let out = &mut *outs[j];
             debug_assert_eq!(out.len(), self.n_modes());
@@ -296,6 +281,37 @@ impl ModalBridge {
                 *o = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
             }
         }
+    }
+
+    /// `sin(k θⱼ)` for `k = 0 ..= kmax` (the largest of `half_waves`) of up to
+    /// [`SHAPE_LANES`] positions `xs`, `θⱼ = π (xⱼ − x_start)/span`, by lanes in `scratch`
+    /// (`s[k][j]`; zero off the deck), the positions' Chebyshev recurrences interleaved;
+    /// `on[j]` whether `xs[j]` is on the deck.
+    fn lane_sines<'s>(
+        &self,
+        span_m: f64,
+        half_waves: &[u32],
+        xs: &[f64],
+        on: &mut [bool],
+        scratch: &'s mut Vec<[f64; SHAPE_LANES]>,
+    ) -> &'s [[f64; SHAPE_LANES]] {
+        let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
+        scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
+        let s = &mut scratch[..=kmax];
+        s[0] = [0.0; SHAPE_LANES];
+        let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+        for (j, &x) in xs.iter().enumerate() {
+            on[j] = self.on_deck(x);
+            if on[j] && kmax >= 1 {
+                let theta = std::f64::consts::PI * (x - self.x_start_m) / span_m;
+                sin1[j] = theta.sin();
+                c2[j] = 2.0 * theta.cos();
+            }
+        }
+        if kmax >= 1 {
+            chebyshev_sines(sin1, c2, s);
+        }
+        s
     }
 
     /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` (eq. 8): deck motion at the
@@ -358,24 +374,9 @@ impl ModalBridge {
         else {
             panic!("sines of nodal shapes");
         };
-        let kmax = half_waves.iter().copied().max().unwrap_or(0) as usize;
-        scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
-        let s = &mut scratch[..=kmax];
-        s[0] = [0.0; SHAPE_LANES];
-        let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+        let s = self.lane_sines(*span_m, half_waves, xs, on, scratch);
         for j in 0..m {
-            on[j] = self.on_deck(xs[j]);
-            if on[j] && kmax >= 1 {
-                let theta = std::f64::consts::PI * (xs[j] - self.x_start_m) / span_m;
-                sin1[j] = theta.sin();
-                c2[j] = 2.0 * theta.cos();
-            }
-        }
-        if kmax >= 1 {
-            chebyshev_sines(sin1, c2, s);
-        }
-        for j in 0..m {
-            let out = &mut outs[j][..=kmax];
+            let out = &mut outs[j][..s.len()];
             if on[j] {
                 for (o, sk) in out.iter_mut().zip(s.iter()) {
                     *o = sk[j];
