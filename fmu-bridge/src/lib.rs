@@ -93,9 +93,11 @@ impl BridgeFmu {
     ///   step.
     /// * `<InitialUnknowns>`: by the equations of [`BridgeSide::initialize`]. The deck is at
     ///   rest in its steady response, so a rail displacement depends on its wheelset's
-    ///   position and a rail velocity also on its speed; the deck's acceleration
-    ///   `q̈₀ = Σₖ Ψ(xₖ)ᵀ fₖ + B u` follows from every wheelset's position and force and the
-    ///   turbulence inputs, so every acceleration (rail and probe) depends on all of those.
+    ///   position (through the shapes under steady loads, through the irregularity) and a
+    ///   rail velocity on its position and speed (through the irregularity); the deck's
+    ///   acceleration `q̈₀ = Σₖ Ψ(xₖ)ᵀ fₖ + B u` follows from every wheelset's position and
+    ///   force and the turbulence inputs, so every acceleration (rail and probe) depends on
+    ///   all of those (and a rail acceleration on its speed, through the irregularity).
     ///   Declared from the equations, not probed: a force's share of another wheelset's
     ///   acceleration can lie many orders below that output's other terms (a roll moment
     ///   through the torsional modes to a vertical acceleration), where whether a probe sees
@@ -107,6 +109,7 @@ impl BridgeFmu {
         track: Arc<dyn RailProfile>,
     ) -> Result<fmi_export::dependencies::Declared, String> {
         use fmi_export::dependencies::{probe, Declared};
+        let flat = track.is_flat();
         let mut m = BridgeFmu::from_parts(res.clone(), track, String::new());
         let l = m.layout.clone();
         let n = l.n_wheelsets().max(1) as f64;
@@ -135,7 +138,8 @@ impl BridgeFmu {
         };
         // small against the spacing of the wheelsets and the deck's end
         let delta = |_: u32, v: f64| 1e-4 * (1.0 + v.abs());
-        let initial = Self::initial_dependencies(&l, &outputs);
+        let steady = res.modal.steady_modal_force.iter().any(|&f| f != 0.0);
+        let initial = Self::initial_dependencies(&l, &res.modal, &outputs, flat, steady);
         set(&mut m, Phase::Initialization)?;
         m.exit_initialization()?;
         m.do_step(0.0, 1e-3)?;
@@ -148,37 +152,72 @@ impl BridgeFmu {
     }
 
     /// The `<InitialUnknowns>` dependencies of `outputs` ([`Self::dependencies`]), value
-    /// references ascending.
-    fn initial_dependencies(l: &BridgeLayout, outputs: &[u32]) -> Vec<Vec<u32>> {
-        use tbi_dynamics::interface::wheel::{F_Y, F_Z, M_X, VX, X};
-        let mut loads: Vec<u32> = (0..l.n_wheelsets())
-            .flat_map(|w| [X, F_Y, M_X, F_Z].map(|k| l.wheel_in.vr(w, k)))
-            .collect();
-        loads.extend(l.wind_in.all_vrs());
+    /// references ascending, on a track that is `flat` (no irregularity: the rail motion is
+    /// the deck's alone) or not, with `steady` deck loads (a deck displaced at rest) or
+    /// without. A wheelset's force component acts on an acceleration component through the
+    /// modes that have both (`modal.nonzero_components`): a vertical-only beam couples no
+    /// lateral force to anything.
+    fn initial_dependencies(
+        l: &BridgeLayout,
+        modal: &tbi_dynamics::bridge::ModalBridge,
+        outputs: &[u32],
+        flat: bool,
+        steady: bool,
+    ) -> Vec<Vec<u32>> {
+        use tbi_dynamics::interface::wheel::{F_Y, VX, X};
+        let (deck, rail) = modal.nonzero_components();
+        // the loads acting on an acceleration whose shapes are `has`: the forces (F_y, M_x,
+        // F_z on the rail's y, θ, z) of every wheelset through a mode with both, with those
+        // wheelsets' positions; the turbulence on every mode
+        let loads = |has: &dyn Fn(usize) -> bool| -> Vec<u32> {
+            let acting: Vec<usize> = (0..3)
+                .filter(|&c| (0..rail.len()).any(|n| has(n) && rail[n][c]))
+                .collect();
+            let mut d = Vec::new();
+            if !acting.is_empty() {
+                for k in 0..l.n_wheelsets() {
+                    d.push(l.wheel_in.vr(k, X));
+                    d.extend(acting.iter().map(|&c| l.wheel_in.vr(k, F_Y + c)));
+                }
+            }
+            if (0..rail.len()).any(has) {
+                d.extend(l.wind_in.all_vrs());
+            }
+            d
+        };
         outputs
             .iter()
             .map(|&vr| {
                 let mut deps = if let Some((w, c)) = l.rail_out.decode(vr) {
-                    // y, θ, z; their rates; their accelerations
-                    match c / 3 {
-                        0 => vec![l.wheel_in.vr(w, X)],
-                        1 => vec![l.wheel_in.vr(w, X), l.wheel_in.vr(w, VX)],
-                        _ => {
-                            let mut d = loads.clone();
-                            d.push(l.wheel_in.vr(w, VX));
-                            d
-                        }
+                    // y, θ, z (Ψ(x) q₀ + r(x)); their rates (ẋ r′(x), the deck at rest);
+                    // their accelerations (Ψ(x) q̈₀ + ẋ² r″(x))
+                    let (x, vx) = (l.wheel_in.vr(w, X), l.wheel_in.vr(w, VX));
+                    let k = c % 3;
+                    let shaped = (0..rail.len()).any(|n| rail[n][k]);
+                    let mut d = match c / 3 {
+                        0 if !flat || steady && shaped => vec![x],
+                        1 if !flat => vec![x, vx],
+                        2 => loads(&|n| rail[n][k]),
+                        _ => Vec::new(),
+                    };
+                    if c / 3 == 2 && (shaped || !flat) {
+                        d.push(x);
                     }
+                    if c / 3 == 2 && !flat {
+                        d.push(vx);
+                    }
+                    d
                 } else {
                     let (_, c) = l.probe_out.decode(vr).expect("a rail or probe output");
-                    // y, z, θ at rest; y_dd, z_dd
-                    if c >= 3 {
-                        loads.clone()
-                    } else {
-                        Vec::new()
+                    // y, z, θ at rest; y_dd, z_dd (deck components h, v)
+                    match c {
+                        3 => loads(&|n| deck[n][0]),
+                        4 => loads(&|n| deck[n][1]),
+                        _ => Vec::new(),
                     }
                 };
                 deps.sort_unstable();
+                deps.dedup();
                 deps
             })
             .collect()

@@ -329,6 +329,33 @@ impl ModalBridge {
         [fy, fz, mx + self.h4_m * fy + self.e_m * fz]
     }
 
+    /// Per mode, which components of its deck shape `(φ_h, φ_v, φ_θ)` and of its rail shape
+    /// ([`Self::rail_of`]) are not zero everywhere on the deck: `(deck, rail)`.
+    pub fn nonzero_components(&self) -> (Vec<[bool; 3]>, Vec<[bool; 3]>) {
+        let nb = self.n_modes();
+        let (mut deck, mut rail) = (vec![[false; 3]; nb], vec![[false; 3]; nb]);
+        let mut mark = |n: usize, v: [f64; 3]| {
+            let r = self.rail_of(v);
+            for c in 0..3 {
+                deck[n][c] |= v[c] != 0.0;
+                rail[n][c] |= r[c] != 0.0;
+            }
+        };
+        match &self.shapes {
+            Shapes::Sine { amplitudes, .. } => {
+                for (n, &a) in amplitudes.iter().enumerate() {
+                    mark(n, a);
+                }
+            }
+            Shapes::Nodal { values, .. } => {
+                for (i, &v) in values.iter().enumerate() {
+                    mark(i % nb.max(1), v);
+                }
+            }
+        }
+        (deck, rail)
+    }
+
     /// Nodal shapes: the node values, node-major (`values[node * n_modes + mode]`, deck
     /// components), and the number of nodes. None for sine shapes.
     pub fn nodal_values(&self) -> Option<(&[[f64; 3]], usize)> {
