@@ -4,7 +4,11 @@
 //! * [`BridgeSide`] (bridge plus track): inputs per wheelset — position `x`, speed `ẋ` and the
 //!   force on the rail `f = (F_y, M_x, F_z)`; it integrates `q̈ + 2ζω q̇ + ω² q = Σ Ψ(x)ᵀ f` and
 //!   outputs the rail motion under each wheelset, deck plus irregularity:
-//!   `u = Ψ(x) q + r(x)`, `u̇ = Ψ q̇ + ẋ r′`, `ü = Ψ q̈ + ẋ² r″`.
+//!   `u = Ψ(x) q + r(x)`, `u̇ = Ψ q̇ + ẋ r′`, `ü = Ψ q̈ + ẋ² r″`. It forms `Σ Ψᵀ f` and
+//!   `Ψ (q, q̇, q̈)` through the shapes' own basis, `Ψ(x) = R Σ_b β_b(x) φ_b` (`R` the rail
+//!   map): the nodes of the Lagrange stencil at `x` (nodal shapes, `β` its weights) or the
+//!   half-wave numbers (sine shapes, `β_k = sin(kπ(x − x₀)/L)`), each basis function in use
+//!   once per sweep instead of every mode under every wheelset.
 //! * [`TrainSide`]: inputs per wheelset — that rail motion; it adds wheel hunting, integrates
 //!   every vehicle and outputs positions and the wheel forces of eq. (6).
 //!
@@ -118,8 +122,8 @@ pub struct BridgeSide {
     modal: Vec<[f64; 4]>,
     /// Scratch of [`Self::step`]: the generalised forces.
     force: Vec<f64>,
-    /// Scratch of the nodal path.
-    nodes: NodeScratch,
+    /// Scratch of the products through the shapes' basis.
+    nodes: BasisScratch,
 }
 
 impl Clone for BridgeSide {
@@ -135,7 +139,7 @@ impl Clone for BridgeSide {
             deck_wind: self.deck_wind.clone(),
             modal: Vec::new(),
             force: Vec::new(),
-            nodes: NodeScratch::default(),
+            nodes: BasisScratch::default(),
         }
     }
 
@@ -174,7 +178,7 @@ impl BridgeSide {
             deck_wind: None,
             modal: Vec::new(),
             force: Vec::new(),
-            nodes: NodeScratch::default(),
+            nodes: BasisScratch::default(),
             bridge,
             track,
         }
@@ -841,14 +845,14 @@ struct Stencil {
 /// (node, or half-wave number) the wheelsets' forces gathered there (deck components) and
 /// the deck motion `(φ q, φ q̇, φ q̈)` there, and the nodes in use, ascending once sorted.
 #[derive(Debug, Default)]
-struct NodeScratch {
+struct BasisScratch {
     force: Vec<[f64; 3]>,
     motion: Vec<[[f64; 4]; 3]>,
     used: Vec<bool>,
     nodes: Vec<usize>,
 }
 
-impl NodeScratch {
+impl BasisScratch {
     /// No node in use, room for `n` nodes.
     fn begin(&mut self, n: usize) {
         for &i in &self.nodes {
