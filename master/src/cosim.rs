@@ -97,6 +97,12 @@ impl Participant for FmuParticipant {
     fn variable_name(&self, vr: u32) -> Option<String> {
         self.names.get(&vr).cloned()
     }
+    fn exit_initialization(&mut self) -> Result<(), CouplingError> {
+        self.inst
+            .exit_initialization_mode()
+            .map(drop)
+            .map_err(|e| CouplingError::new(e.to_string()))
+    }
     fn get_discrete(
         &mut self,
         kind: Discrete,

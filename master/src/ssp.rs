@@ -28,6 +28,7 @@
 //! are connected to.
 
 use crate::cosim::FmuParticipant;
+use crate::coupling::exchange::Exchange;
 use crate::coupling::{Connection, CouplingConfig, Discrete, DiscreteConnection, System};
 use fmi_import::archive::UnpackedDir;
 use fmi_import::{Fmu, InstantiateOptions, UnpackLimits};
@@ -556,74 +557,56 @@ pub fn wire(
         }
         .map_err(|e| format!("{at}: {e}"))?;
     }
-    // Inputs start from the outputs they are connected to: every connected output read, then
-    // every input set, one call per instance and direction, until a pass reads what the
-    // pass before it did (an FMU in initialisation mode may recompute all its outputs when
-    // one is read after an input has changed).
-    let by = |end: fn(&Connection) -> (usize, u32)| -> Vec<(Vec<usize>, Vec<u32>)> {
-        (0..instances.len())
-            .map(|i| {
-                let mine: Vec<usize> = (0..connections.len())
-                    .filter(|&k| end(&connections[k]).0 == i)
-                    .collect();
-                let vrs = mine.iter().map(|&k| end(&connections[k]).1).collect();
-                (mine, vrs)
+    let mut system = System {
+        participants: instances
+            .into_iter()
+            .zip(&fmus)
+            .map(|(inst, fmu)| {
+                Box::new(FmuParticipant::new(fmu, inst)) as Box<dyn crate::coupling::Participant>
             })
-            .collect()
+            .collect(),
+        connections,
+        discrete,
     };
-    let sources = by(|c| (c.from, c.from_vr));
-    let targets = by(|c| (c.to, c.to_vr));
+    // Inputs start from the outputs they are connected to: every connected output read, then
+    // every input set (the coupling's exchange, one call per participant and direction),
+    // until a pass reads what the pass before it did (an FMU in initialisation mode may
+    // recompute all its outputs when one is read after an input has changed).
+    let text = |e: crate::coupling::CouplingError| e.to_string();
+    let mut ex = Exchange::new(&system).map_err(text)?;
     let mut last: Vec<f64> = Vec::new();
-    let mut buf: Vec<f64> = Vec::new();
     for _ in 0..50 {
-        let mut now = vec![0.0; connections.len()];
-        for (inst, (mine, vrs)) in instances.iter_mut().zip(&sources) {
-            if mine.is_empty() {
-                continue;
-            }
-            buf.resize(vrs.len(), 0.0);
-            inst.get_real(vrs, &mut buf).map_err(|e| e.to_string())?;
-            for (&k, &v) in mine.iter().zip(&buf) {
-                now[k] = v;
-            }
+        ex.read_all(&mut system).map_err(text)?;
+        let System {
+            participants,
+            discrete,
+            ..
+        } = &mut system;
+        let mut levels = vec![0; discrete.len()];
+        for (c, v) in discrete.iter().zip(&mut levels) {
+            participants[c.from]
+                .get_discrete(c.kind, &[c.from_vr], std::slice::from_mut(v))
+                .map_err(text)?;
         }
-        let mut levels = Vec::with_capacity(discrete.len());
-        for c in &discrete {
-            levels.push(get_discrete(&mut instances[c.from], c.kind, c.from_vr)?);
+        ex.write_all(&mut system).map_err(text)?;
+        for (c, &v) in system.discrete.iter().zip(&levels) {
+            system.participants[c.to]
+                .set_discrete(c.kind, &[c.to_vr], &[v])
+                .map_err(text)?;
         }
-        for (inst, (mine, vrs)) in instances.iter_mut().zip(&targets) {
-            if mine.is_empty() {
-                continue;
-            }
-            buf.clear();
-            buf.extend(mine.iter().map(|&k| now[k]));
-            inst.set_real(vrs, &buf).map_err(|e| e.to_string())?;
-        }
-        for (c, &v) in discrete.iter().zip(&levels) {
-            set_discrete(&mut instances[c.to], c.kind, c.to_vr, v)?;
-        }
-        now.extend(levels.iter().map(|&v| f64::from(v)));
+        let now: Vec<f64> = (ex.values.iter().copied())
+            .chain(levels.iter().map(|&v| f64::from(v)))
+            .collect();
         if now == last {
             break;
         }
         last = now;
     }
-    for inst in &mut instances {
-        inst.exit_initialization_mode().map_err(|e| e.to_string())?;
+    for p in &mut system.participants {
+        p.exit_initialization().map_err(text)?;
     }
-    let participants = instances
-        .into_iter()
-        .zip(&fmus)
-        .map(|(inst, fmu)| {
-            Box::new(FmuParticipant::new(fmu, inst)) as Box<dyn crate::coupling::Participant>
-        })
-        .collect();
     Ok(Wired {
-        system: System {
-            participants,
-            connections,
-            discrete,
-        },
+        system,
         outputs,
         fmus,
     })

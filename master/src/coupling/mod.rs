@@ -53,7 +53,7 @@ pub mod acceleration;
 pub mod advance;
 pub mod config;
 pub mod convergence;
-mod exchange;
+pub(crate) mod exchange;
 pub mod gauss_seidel;
 pub mod implicit;
 pub mod jacobi;

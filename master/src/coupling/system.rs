@@ -54,6 +54,11 @@ pub trait Participant {
     fn variable_name(&self, _vr: u32) -> Option<String> {
         None
     }
+    /// Leave initialisation mode (FMI `fmi2ExitInitializationMode`), after the initial
+    /// inputs are set. Default: nothing to do.
+    fn exit_initialization(&mut self) -> Result<(), CouplingError> {
+        Ok(())
+    }
     /// Read Integer or Boolean (as 0/1) variables, for [`DiscreteConnection`]s. Default: the
     /// participant has none.
     fn get_discrete(
