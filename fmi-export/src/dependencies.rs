@@ -10,10 +10,10 @@
 //! ```
 //!
 //! The state is restored between probes from a clone of the model taken before the first
-//! (`clone_from`, as `fmi2SetFMUstate` restores a saved state). An output that does not depend on a known is computed
-//! without it and stays bit-identical; one that does changes unless the operating point is
-//! special (an output exactly insensitive there), which the caller avoids by choosing
-//! generic values.
+//! (`clone_from`, as `fmi2SetFMUstate` restores a saved state). An output that does not
+//! depend on a known is computed without it and stays bit-identical; one that does changes
+//! unless the operating point is special (an output exactly insensitive there), which the
+//! caller avoids by choosing generic values.
 
 use crate::model::{FmuModel, Phase};
 

@@ -96,8 +96,9 @@ impl BridgeFmu {
     ///   position (through the shapes under steady loads, through the irregularity) and a
     ///   rail velocity on its position and speed (through the irregularity); the deck's
     ///   acceleration `q̈₀ = Σₖ Ψ(xₖ)ᵀ fₖ + B u` follows from every wheelset's position and
-    ///   force and the turbulence inputs, so every acceleration (rail and probe) depends on
-    ///   all of those (and a rail acceleration on its speed, through the irregularity).
+    ///   force and the turbulence inputs, so an acceleration (rail and probe) depends on those
+    ///   that act through a mode having its component (and a rail acceleration on its speed,
+    ///   through the irregularity).
     ///   Declared from the equations, not probed: a force's share of another wheelset's
     ///   acceleration can lie many orders below that output's other terms (a roll moment
     ///   through the torsional modes to a vertical acceleration), where whether a probe sees
@@ -194,19 +195,17 @@ impl BridgeFmu {
                     let (x, vx) = (l.wheel_in.vr(w, X), l.wheel_in.vr(w, VX));
                     let k = c % 3;
                     let shaped = (0..rail.len()).any(|n| rail[n][k]);
-                    let mut d = match c / 3 {
+                    match c / 3 {
                         0 if !flat || steady && shaped => vec![x],
                         1 if !flat => vec![x, vx],
-                        2 => loads(&|n| rail[n][k]),
-                        _ => Vec::new(),
-                    };
-                    if c / 3 == 2 && (shaped || !flat) {
-                        d.push(x);
+                        0 | 1 => Vec::new(),
+                        _ => {
+                            let mut d = loads(&|n| rail[n][k]);
+                            d.extend((shaped || !flat).then_some(x));
+                            d.extend((!flat).then_some(vx));
+                            d
+                        }
                     }
-                    if c / 3 == 2 && !flat {
-                        d.push(vx);
-                    }
-                    d
                 } else {
                     let (_, c) = l.probe_out.decode(vr).expect("a rail or probe output");
                     // y, z, θ at rest; y_dd, z_dd (deck components h, v)
