@@ -154,6 +154,16 @@ pub fn wheel_channel(input: &mut WheelInput, k: usize) -> &mut f64 {
     }
 }
 
+/// The wheelset input of the [`WHEEL_CHANNELS`] `v` (5 values in their order; channel `k`
+/// is [`wheel_channel`]`(input, k)`).
+pub fn wheel_from_values(v: &[f64]) -> WheelInput {
+    WheelInput {
+        x: v[wheel::X],
+        vx: v[wheel::VX],
+        f: [v[wheel::F_Y], v[wheel::M_X], v[wheel::F_Z]],
+    }
+}
+
 /// Channel `k` of [`RAIL_CHANNELS`] in a wheelset's rail motion `(u, u̇, ü)`.
 pub fn rail_channel(rail: &mut [Vector3<f64>; 3], k: usize) -> &mut f64 {
     &mut rail[k / 3][k % 3]
@@ -240,11 +250,13 @@ impl Block {
     pub fn run(&self, vr: &[u32]) -> Option<usize> {
         let first = *vr.first()?;
         let o = first.checked_sub(self.vr0)? as usize;
-        let consecutive = vr
-            .iter()
-            .enumerate()
-            .all(|(i, &r)| r.wrapping_sub(first) as usize == i);
-        (consecutive && o + vr.len() <= self.len()).then_some(o)
+        if o + vr.len() > self.len() {
+            return None;
+        }
+        // without an early exit, so that the test runs several references per instruction
+        // (a run is the usual case, and then every reference is looked at anyway)
+        let off = (vr.iter().zip(0u32..)).fold(0, |acc, (&r, i)| acc | (r.wrapping_sub(first) ^ i));
+        (off == 0).then_some(o)
     }
 
     /// `set(i, k, value)` for the values of a run that starts at offset `first` of the block
@@ -258,6 +270,30 @@ impl Block {
             if k == width {
                 (i, k) = (i + 1, 0);
             }
+        }
+    }
+
+    /// Sets `items` (one per index of the block) from the values of a run that starts at
+    /// offset `first` (from [`Block::run`]): whole items (the master's case) each from its
+    /// `width` values by `whole`, otherwise value by value into `channel(item, k)`.
+    pub fn set_run<T>(
+        &self,
+        first: usize,
+        values: &[f64],
+        items: &mut [T],
+        whole: impl Fn(&[f64]) -> T,
+        channel: impl Fn(&mut T, usize) -> &mut f64,
+    ) {
+        let width = self.width();
+        if first.is_multiple_of(width) && values.len().is_multiple_of(width) {
+            for (item, v) in items[first / width..]
+                .iter_mut()
+                .zip(values.chunks_exact(width))
+            {
+                *item = whole(v);
+            }
+        } else {
+            self.for_run(first, values, |i, k, v| *channel(&mut items[i], k) = v);
         }
     }
 
@@ -587,6 +623,37 @@ mod tests {
             assert_eq!(vk, *rail_channel(&mut r, k), "channel {k}");
         }
         assert_eq!(rail_from_values(&v), r);
+        let mut w = WheelInput::default();
+        for k in 0..WHEEL_CHANNELS.len() {
+            *wheel_channel(&mut w, k) = 10.0 + k as f64;
+        }
+        let v: Vec<f64> = (0..5).map(|k| 10.0 + k as f64).collect();
+        assert_eq!(wheel_from_values(&v), w);
+    }
+
+    #[test]
+    fn set_run_sets_whole_items_and_single_channels_alike() {
+        let mut blocks = Blocks::default();
+        let b = blocks.input("ws", &WHEEL_CHANNELS, 3);
+        let values: Vec<f64> = (0..15).map(|j| 1.0 + f64::from(j)).collect();
+        // every offset and length: whole items (fast) and partial ones (value by value)
+        for first in 0..15 {
+            for len in 0..=15 - first {
+                let mut items = vec![WheelInput::default(); 3];
+                b.set_run(
+                    first,
+                    &values[..len],
+                    &mut items,
+                    wheel_from_values,
+                    wheel_channel,
+                );
+                let mut expected = vec![WheelInput::default(); 3];
+                b.for_run(first, &values[..len], |i, k, v| {
+                    *wheel_channel(&mut expected[i], k) = v
+                });
+                assert_eq!(items, expected, "first {first}, len {len}");
+            }
+        }
     }
 
     #[test]

@@ -21,8 +21,8 @@ pub mod layout;
 
 use layout::{probe_channels, BridgeLayout, BridgeVar, PARKED_X};
 use tbi_dynamics::interface::{
-    rail_values, wheel_channel, Block, BridgeResources, BRIDGE_ID, BRIDGE_RESOURCE, BUILD_ID,
-    TRACK_RESOURCE,
+    rail_values, wheel_channel, wheel_from_values, Block, BridgeResources, BRIDGE_ID,
+    BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, ProbeValues, WheelInput};
 use tbi_dynamics::track::{RailProfile, Smooth};
@@ -336,10 +336,13 @@ impl FmuModel for BridgeFmu {
         let Some(first) = self.layout.wheel_in.run(vr) else {
             return set_each(self, vr, values, phase);
         };
-        let inputs = &mut self.inputs;
-        (self.layout.wheel_in).for_run(first, values, |w, k, v| {
-            *wheel_channel(&mut inputs[w], k) = v
-        });
+        (self.layout.wheel_in).set_run(
+            first,
+            values,
+            &mut self.inputs,
+            wheel_from_values,
+            wheel_channel,
+        );
         self.dirty = true;
         Ok(())
     }

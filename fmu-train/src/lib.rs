@@ -385,20 +385,13 @@ impl FmuModel for TrainFmu {
         let Some(first) = self.layout.rail_in.run(vr) else {
             return set_each(self, vr, values, phase);
         };
-        let rails = &mut self.rails;
-        let width = self.layout.rail_in.width();
-        if first.is_multiple_of(width) && values.len().is_multiple_of(width) {
-            // whole wheelsets (the master's case)
-            for (r, v) in rails[first / width..]
-                .iter_mut()
-                .zip(values.chunks_exact(width))
-            {
-                *r = rail_from_values(v);
-            }
-        } else {
-            (self.layout.rail_in)
-                .for_run(first, values, |w, k, v| *rail_channel(&mut rails[w], k) = v);
-        }
+        (self.layout.rail_in).set_run(
+            first,
+            values,
+            &mut self.rails,
+            rail_from_values,
+            rail_channel,
+        );
         self.dirty = true;
         Ok(())
     }
