@@ -30,9 +30,26 @@ fn time_tolerance(t: f64) -> f64 {
     TIME_TOLERANCE * t.abs().max(1.0)
 }
 
-/// A tag that differs between model types (guards snapshot and component pointers).
+/// A tag that differs between model types (guards snapshot and component pointers): the
+/// type's `TypeId` folded to 64 bits, a constant the compiler works out (every call of the
+/// C API checks it).
 pub(crate) fn type_tag<M: 'static>() -> u64 {
-    crate::guid::fnv1a64(std::any::type_name::<M>().as_bytes())
+    use std::hash::{Hash, Hasher};
+    /// FNV-1a over whatever the `TypeId` writes.
+    struct Fold(u64);
+    impl Hasher for Fold {
+        fn finish(&self) -> u64 {
+            self.0
+        }
+        fn write(&mut self, bytes: &[u8]) {
+            for &b in bytes {
+                self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        }
+    }
+    let mut h = Fold(0xcbf2_9ce4_8422_2325);
+    std::any::TypeId::of::<M>().hash(&mut h);
+    h.finish()
 }
 
 /// The object an `fmi2Component` points to.
@@ -239,9 +256,10 @@ impl<M: FmuModel> Instance<M> {
     }
 
     pub(crate) fn set_real(&mut self, vr: &[u32], values: &[f64]) -> Result<Status, String> {
-        if let Some((r, v)) = vr.iter().zip(values).find(|(_, v)| !v.is_finite()) {
+        if let Some(i) = fmi2::first_non_finite(&values[..vr.len().min(values.len())]) {
             return Err(format!(
-                "Real value reference {r} cannot be set to the non-finite value {v}"
+                "Real value reference {} cannot be set to the non-finite value {}",
+                vr[i], values[i]
             ));
         }
         let phase = self.phase()?;

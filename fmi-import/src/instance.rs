@@ -6,7 +6,7 @@ use crate::library::{Library, LoadError};
 use crate::logger::{LogEnv, LogMessage, LogSink};
 use fmi2::types::*;
 use fmi2::uri::file_uri;
-use fmi2::Functions;
+use fmi2::{first_non_finite, Functions};
 use model_description::{ModelDescription, VariableKind};
 use std::collections::HashMap;
 use std::ffi::{c_char, CStr, CString};
@@ -1048,42 +1048,6 @@ impl Instance {
                     let _ = self.free_fmu_state(state);
                 }
                 Err(e)
-            }
-        }
-    }
-}
-
-/// The index of the first NaN or infinite value, if any. The common all-finite case is one
-/// branch-free pass over the exponent bits (it vectorises; `position` with its early exit
-/// does not), the index search only runs when that pass found one.
-pub fn first_non_finite(values: &[f64]) -> Option<usize> {
-    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
-    let non_finite = values
-        .iter()
-        .filter(|v| v.to_bits() & EXPONENT == EXPONENT)
-        .count();
-    if non_finite == 0 {
-        None
-    } else {
-        values.iter().position(|v| !v.is_finite())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::first_non_finite;
-
-    #[test]
-    fn the_first_nan_or_infinity_is_found_wherever_it_is() {
-        assert_eq!(first_non_finite(&[]), None);
-        let finite = [0.0, -0.0, f64::MAX, f64::MIN_POSITIVE, 5e-324, -1.5];
-        assert_eq!(first_non_finite(&finite), None);
-        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-            for at in 0..finite.len() {
-                let mut v = finite.to_vec();
-                v[at] = bad;
-                v.push(bad);
-                assert_eq!(first_non_finite(&v), Some(at), "{bad} at {at}");
             }
         }
     }

@@ -53,9 +53,8 @@ pub mod simulate;
 
 pub use archive::UnpackLimits;
 pub use error::{CallStatus, FmiError, Status};
+pub use fmi2::first_non_finite;
 pub use fmi2::uri::file_uri;
-pub use instance::{
-    first_non_finite, Fmu, FmuState, Instance, InstantiateOptions, StatusKind, StepResult, PLATFORM,
-};
+pub use instance::{Fmu, FmuState, Instance, InstantiateOptions, StatusKind, StepResult, PLATFORM};
 pub use library::{Library, LoadError};
 pub use logger::LogMessage;
