@@ -35,6 +35,8 @@ pub struct Groups {
     /// The values of each group, in order.
     members: Vec<Vec<usize>>,
     max: Vec<f64>,
+    /// `rtol·max + atol` of each group (scratch of [`WeightedRms::evaluate_in`]).
+    denominator: Vec<f64>,
     peak: Vec<f64>,
 }
 
@@ -46,6 +48,7 @@ impl Groups {
             members: members_of(&of, n),
             of,
             max: vec![0.0; n],
+            denominator: Vec::with_capacity(n),
             peak: vec![0.0; n],
         }
     }
@@ -146,12 +149,19 @@ impl WeightedRms {
     /// The grouped measure over [`Groups`].
     pub fn evaluate_in(&self, x: &[f64], x_tilde: &[f64], groups: &mut Groups) -> f64 {
         let Groups {
-            of, members, max, ..
+            of,
+            members,
+            max,
+            denominator,
+            ..
         } = groups;
         assert_eq!(x.len(), of.len(), "one group per interface value");
         max.fill(0.0);
         max_abs_into(members, x_tilde, max);
-        self.rms(x, x_tilde, |i, _| max[of[i]])
+        // each group's denominator once (the same operations as per value: bit for bit)
+        denominator.clear();
+        denominator.extend(max.iter().map(|&m| self.rtol * m + self.atol));
+        self.rms_over(x, x_tilde, of, denominator)
     }
 
     /// The value with the largest weighted change in [`WeightedRms::evaluate_in`] (call that
@@ -204,6 +214,26 @@ impl WeightedRms {
             .enumerate()
             .map(|(i, (&xi, &ti))| {
                 let e = (ti - xi) / (self.rtol * magnitude(i, ti) + self.atol);
+                e * e
+            })
+            .sum();
+        (sum / x.len() as f64).sqrt()
+    }
+
+    /// [`WeightedRms::rms`] with value i measured against the denominator of its group,
+    /// `rtol·X_g + atol = denominator[of[i]]`: the same divisions and sum.
+    fn rms_over(&self, x: &[f64], x_tilde: &[f64], of: &[usize], denominator: &[f64]) -> f64 {
+        assert_eq!(
+            x.len(),
+            x_tilde.len(),
+            "interface vectors of different length"
+        );
+        if x.is_empty() {
+            return 0.0;
+        }
+        let sum: f64 = (x.iter().zip(x_tilde).zip(of))
+            .map(|((&xi, &ti), &g)| {
+                let e = (ti - xi) / denominator[g];
                 e * e
             })
             .sum();
