@@ -45,36 +45,6 @@ pub fn rail_accumulate(acc: &mut [[f64; 4]; 3], psi: &[[f64; 3]], modal: &[[f64;
     rail_accumulate_body(acc, psi, modal)
 }
 
-/// `acc[c][d] ← acc[c][d] + Σₖ s[k] · b[k][c][d]`, summed over `k` in order: the rail motion
-/// (component `c`, derivative `d`) of sine shapes from `sin(k θ)` and the modal motion
-/// gathered by half-wave number.
-#[inline]
-pub fn sine_accumulate(acc: &mut [[f64; 4]; 3], s: &[f64], b: &[[[f64; 4]; 3]]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2 (checked just above).
-        return unsafe { sine_accumulate_avx2(acc, s, b) };
-    }
-    sine_accumulate_body(acc, s, b)
-}
-
-#[inline(always)]
-fn sine_accumulate_body(acc: &mut [[f64; 4]; 3], s: &[f64], b: &[[[f64; 4]; 3]]) {
-    for (sk, bk) in s.iter().zip(b) {
-        for (ac, bc) in acc.iter_mut().zip(bk) {
-            for (v, bv) in ac.iter_mut().zip(bc) {
-                *v += sk * bv;
-            }
-        }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn sine_accumulate_avx2(acc: &mut [[f64; 4]; 3], s: &[f64], b: &[[[f64; 4]; 3]]) {
-    sine_accumulate_body(acc, s, b)
-}
-
 /// `y[n] ← y[n] + ((psi[n][0] f[0] + psi[n][1] f[1]) + psi[n][2] f[2])` (over the shorter of
 /// the two): the generalised forces `Σ Ψᵀ f` of one wheelset's force `f`.
 #[inline]
@@ -135,31 +105,13 @@ fn axpy_body(y: &mut [f64], a: f64, x: &[f64]) {
     }
 }
 
-/// Eight elements of `y` at a time are kept in registers while every column is added to
-/// them, so `y` is loaded and stored once instead of once per column.
 #[inline(always)]
 fn axpy_columns_body(y: &mut [f64], a: &[f64], columns: &[f64]) {
-    const W: usize = 8;
-    let n = y.len();
-    if n == 0 {
+    if y.is_empty() {
         return;
     }
-    let full = n - n % W;
-    for c in (0..full).step_by(W) {
-        let block = &mut y[c..c + W];
-        let mut acc = [0.0; W];
-        acc.copy_from_slice(block);
-        for (&aj, x) in a.iter().zip(columns.chunks_exact(n)) {
-            for (acc, &x) in acc.iter_mut().zip(&x[c..c + W]) {
-                *acc += aj * x;
-            }
-        }
-        block.copy_from_slice(&acc);
-    }
-    if full < n {
-        for (&aj, x) in a.iter().zip(columns.chunks_exact(n)) {
-            axpy_body(&mut y[full..], aj, &x[full..]);
-        }
+    for (&aj, x) in a.iter().zip(columns.chunks_exact(y.len())) {
+        axpy_body(y, aj, x);
     }
 }
 
@@ -221,7 +173,7 @@ mod tests {
 
     #[test]
     fn both_builds_give_bitwise_the_same_results() {
-        for n in [0, 1, 3, 7, 8, 9, 15, 16, 17, 27, 60, 61] {
+        for n in [0, 1, 3, 15, 16, 17, 60, 61] {
             let x = values(n, 0.3);
             let (mut a, mut b) = (values(n, 1.7), values(n, 1.7));
             axpy_body(&mut a, 0.377, &x);
@@ -255,24 +207,6 @@ mod tests {
             assert!(
                 e.iter().zip(&g).all(|(e, g)| e.to_bits() == g.to_bits()),
                 "project_force, n = {n}"
-            );
-            let b: Vec<[[f64; 4]; 3]> = (0..n)
-                .map(|i| {
-                    [
-                        [x[i], -x[i], 2.5, 0.0],
-                        [0.5 * x[i], 1.0, -x[i], 0.0],
-                        [x[i]; 4],
-                    ]
-                })
-                .collect();
-            let (mut sa, mut sb) = ([[0.3; 4]; 3], [[0.3; 4]; 3]);
-            sine_accumulate_body(&mut sa, &e, &b);
-            sine_accumulate(&mut sb, &e, &b);
-            assert!(
-                (sa.iter().flatten())
-                    .zip(sb.iter().flatten())
-                    .all(|(a, b)| a.to_bits() == b.to_bits()),
-                "sine_accumulate, n = {n}"
             );
             let mut acc_a = [[0.1, 0.2, 0.3, 0.0], [1.0, -2.0, 3.0, 0.0], [0.0; 4]];
             let mut acc_b = acc_a;

@@ -366,7 +366,13 @@ impl BridgeSide {
                 let mut r = rail_motion(irregularity, wi.vx);
                 if let Some(sines) = sines {
                     let mut acc = [[0.0; 4]; 3];
-                    crate::simd::sine_accumulate(&mut acc, sines, b);
+                    for (sk, bk) in sines.iter().zip(b.iter()) {
+                        for (ac, bc) in acc.iter_mut().zip(bk) {
+                            for (v, bv) in ac.iter_mut().zip(bc) {
+                                *v += sk * bv;
+                            }
+                        }
+                    }
                     for (d, rd) in r.iter_mut().enumerate() {
                         *rd +=
                             Vector3::from(self.bridge.rail_of([acc[0][d], acc[1][d], acc[2][d]]));
@@ -618,8 +624,6 @@ pub struct TrainSide {
     bases: Vec<StepBase>,
     /// Scratch vector of a step per vehicle (the wind's share of the acceleration).
     work: Vec<DVector<f64>>,
-    /// Scratch of a step: one vehicle's rail motion `(u, u̇)` of each wheelset, in order.
-    rail_coeffs: Vec<f64>,
     /// The hunting motion of every wheelset at the end of the last step asked for (derived
     /// data keyed by the time and the train: an iterating master repeats a step many times).
     hunting: HuntingCache,
@@ -662,7 +666,6 @@ impl Clone for TrainSide {
             forces: self.forces.clone(),
             bases: self.bases.clone(),
             work: self.work.clone(),
-            rail_coeffs: Vec::new(),
             hunting: self.hunting.clone(),
         }
     }
@@ -729,7 +732,6 @@ impl TrainSide {
                 .map(|tv| DVector::zeros(tv.model.ndof()))
                 .collect(),
             body_wind: vec![0.0; train.vehicles.len()],
-            rail_coeffs: Vec::new(),
             wheelsets,
             train,
             t: 0.0,
@@ -790,14 +792,14 @@ impl TrainSide {
                 }
                 let a = s.vdd.as_mut_slice();
                 a.copy_from_slice(&base.b);
-                // Σ_l G_l (u_l, u̇_l): the columns of every wheelset in one pass
-                let uv = &mut self.rail_coeffs;
-                uv.clear();
-                uv.extend(
-                    (self.rails[first..first + nw].iter())
-                        .flat_map(|r| [r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z]),
-                );
-                crate::simd::axpy_columns(a, uv, &factor.gain);
+                for (g, r) in factor
+                    .gain
+                    .chunks_exact(6 * n)
+                    .zip(&self.rails[first..first + nw])
+                {
+                    let uv = [r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z];
+                    crate::simd::axpy_columns(a, &uv, g);
+                }
                 if self.train.wind.is_some() {
                     // the wind on the body beyond its static loads, F₁
                     let w = &mut self.work[i];
