@@ -548,12 +548,18 @@ struct StepBase {
 impl StepBase {
     fn matches(&self, h: f64, s: &VehicleState) -> bool {
         let n = s.v.len();
+        // the differing bits of all values at once (no early exit: it runs in vector
+        // registers, and a repeated step, the usual case, compares every value anyway)
+        let differ = |a: &[f64], b: &[f64]| {
+            (a.iter().zip(b)).fold(0, |acc, (x, y)| acc | (x.to_bits() ^ y.to_bits()))
+        };
         self.h.to_bits() == h.to_bits()
             && self.key.len() == 3 * n
             && [&s.v, &s.vd, &s.vdd]
                 .iter()
                 .zip(self.key.chunks_exact(n))
-                .all(|(a, b)| (a.as_slice().iter().zip(b)).all(|(x, y)| x.to_bits() == y.to_bits()))
+                .fold(0, |acc, (a, b)| acc | differ(a.as_slice(), b))
+                == 0
     }
 
     fn make(&mut self, h: f64, s: &VehicleState, sp: &VehicleSparse, chol: &SparseCholesky) {

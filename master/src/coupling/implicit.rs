@@ -310,7 +310,7 @@ impl CouplingScheme for Implicit {
             }
             self.acceleration
                 .perform(&self.x, &self.x_tilde, &self.scale, &mut self.next);
-            if !self.next.iter().all(|v| v.is_finite()) {
+            if fmi_import::first_non_finite(&self.next).is_some() {
                 // The acceleration broke down; report the last sweep as not converged.
                 breakdown = true;
                 break;
