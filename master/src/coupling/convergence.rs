@@ -161,7 +161,7 @@ impl WeightedRms {
         // each group's denominator once (the same operations as per value: bit for bit)
         denominator.clear();
         denominator.extend(max.iter().map(|&m| self.rtol * m + self.atol));
-        self.rms_over(x, x_tilde, of, denominator)
+        self.rms_by(x, x_tilde, |i, _| denominator[of[i]])
     }
 
     /// The value with the largest weighted change in [`WeightedRms::evaluate_in`] (call that
@@ -200,6 +200,11 @@ impl WeightedRms {
 
     /// Weighted RMS of `x̃ − x` with value i measured against `magnitude(i, x̃ᵢ)`.
     fn rms(&self, x: &[f64], x_tilde: &[f64], magnitude: impl Fn(usize, f64) -> f64) -> f64 {
+        self.rms_by(x, x_tilde, |i, t| self.rtol * magnitude(i, t) + self.atol)
+    }
+
+    /// Weighted RMS of `x̃ − x` with value i divided by `denominator(i, x̃ᵢ)`.
+    fn rms_by(&self, x: &[f64], x_tilde: &[f64], denominator: impl Fn(usize, f64) -> f64) -> f64 {
         assert_eq!(
             x.len(),
             x_tilde.len(),
@@ -213,27 +218,7 @@ impl WeightedRms {
             .zip(x_tilde)
             .enumerate()
             .map(|(i, (&xi, &ti))| {
-                let e = (ti - xi) / (self.rtol * magnitude(i, ti) + self.atol);
-                e * e
-            })
-            .sum();
-        (sum / x.len() as f64).sqrt()
-    }
-
-    /// [`WeightedRms::rms`] with value i measured against the denominator of its group,
-    /// `rtol·X_g + atol = denominator[of[i]]`: the same divisions and sum.
-    fn rms_over(&self, x: &[f64], x_tilde: &[f64], of: &[usize], denominator: &[f64]) -> f64 {
-        assert_eq!(
-            x.len(),
-            x_tilde.len(),
-            "interface vectors of different length"
-        );
-        if x.is_empty() {
-            return 0.0;
-        }
-        let sum: f64 = (x.iter().zip(x_tilde).zip(of))
-            .map(|((&xi, &ti), &g)| {
-                let e = (ti - xi) / denominator[g];
+                let e = (ti - xi) / denominator(i, ti);
                 e * e
             })
             .sum();
