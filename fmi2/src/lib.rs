@@ -7,6 +7,7 @@
 //! | [`functions`] | the 34 functions listed once: [`Function`], the `fmi2…TYPE` typedefs, the pointer table [`Functions`] (loaded with feature `load`) |
 //! | [`uri`] | `fmuResourceLocation` ↔ path |
 //! | `logger` (feature `logger`) | the variadic `fmi2CallbackLogger` as a C shim forwarding text to a Rust [`LogReceiver`](logger::LogReceiver) |
+//! | [`first_non_finite`] | the check of the Reals crossing the C ABI, on both sides (`fmi2SetReal` in an FMU, `fmi2GetReal` in the importer) |
 
 #![deny(unsafe_op_in_unsafe_fn)]
 
