@@ -21,7 +21,7 @@ pub use functions::{Function, Functions};
 pub use types::*;
 
 /// The index of the first NaN or infinite value, if any. The common all-finite case is one
-/// pass without branches ([`all_finite`]); the index search only runs when that pass failed.
+/// pass without branches (`all_finite`); the index search only runs when that pass failed.
 pub fn first_non_finite(values: &[f64]) -> Option<usize> {
     if all_finite(values) {
         None
