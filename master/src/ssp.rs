@@ -22,10 +22,11 @@
 //! once per step, never iterated); a String connection is refused naming it. The
 //! participants are stepped in the order of the SSD's components (the Gauss–Seidel order).
 //!
-//! Initialisation: every FMU is set up and enters initialisation mode, the parameter
-//! bindings (then `--set` values) are applied, and the connected values are exchanged
-//! until they no longer change (at most 50 rounds), so inputs start from the outputs they
-//! are connected to.
+//! Initialisation: the FMUs are unpacked and their libraries loaded side by side (as many at
+//! once as there are cores), then instantiated in order; every FMU enters initialisation
+//! mode, the parameter bindings (then `--set` values) are applied, and the connected values
+//! are exchanged until they no longer change (at most 50 rounds), so inputs start from the
+//! outputs they are connected to.
 
 use crate::cosim::FmuParticipant;
 use crate::coupling::exchange::Exchange;
@@ -387,6 +388,40 @@ pub(crate) fn set_discrete(
     .map_err(|e| e.to_string())
 }
 
+/// Unpacks the components' FMUs, reads their model descriptions and loads their libraries,
+/// as many side by side as the machine has cores (the archives are independent; no code of
+/// an FMU runs but its library's initialisers), each result in component order. They are
+/// instantiated afterwards, in order, on the calling thread.
+fn load_all(open: &OpenSystem) -> Vec<Result<std::sync::Arc<Fmu>, String>> {
+    let origin = &open.origin;
+    let load = |c: &Component| -> Result<std::sync::Arc<Fmu>, String> {
+        let path = open.base.join(&c.source);
+        if !path.is_file() {
+            return Err(format!(
+                "{origin}: component \"{}\": its FMU {} does not exist",
+                c.name, c.source
+            ));
+        }
+        Fmu::load(&path).map_err(|e| format!("{origin}: component \"{}\": {e}", c.name))
+    };
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let mut loaded = Vec::new();
+    for group in open.ssd.components.chunks(cores.max(1)) {
+        std::thread::scope(|s| {
+            let threads: Vec<_> = group.iter().map(|c| s.spawn(|| load(c))).collect();
+            loaded.extend(threads.into_iter().zip(group).map(|(t, c)| {
+                t.join().unwrap_or_else(|_| {
+                    Err(format!(
+                        "{origin}: component \"{}\": loading its FMU panicked",
+                        c.name
+                    ))
+                })
+            }));
+        });
+    }
+    loaded
+}
+
 /// Load, instantiate and initialise the system's FMUs, apply the parameter bindings and
 /// `sets` (`component.variable = value`), and exchange the connected values until they
 /// settle.
@@ -400,16 +435,8 @@ pub fn wire(
     let mut fmus = Vec::new();
     let mut instances = Vec::new();
     let mut index = HashMap::new();
-    for (i, c) in open.ssd.components.iter().enumerate() {
-        let path = open.base.join(&c.source);
-        if !path.is_file() {
-            return Err(format!(
-                "{origin}: component \"{}\": its FMU {} does not exist",
-                c.name, c.source
-            ));
-        }
-        let fmu =
-            Fmu::load(&path).map_err(|e| format!("{origin}: component \"{}\": {e}", c.name))?;
+    for (i, (c, fmu)) in (open.ssd.components.iter()).zip(load_all(open)).enumerate() {
+        let fmu = fmu?;
         let inst = fmu
             .instantiate(&InstantiateOptions {
                 instance_name: Some(c.name.clone()),

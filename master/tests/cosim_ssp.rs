@@ -180,12 +180,19 @@ fn a_parameter_binding_sets_the_train_speed() {
 fn bad_systems_are_refused_naming_the_file_and_element() {
     let dir = scratch("cosim-bad");
     let ssp = export(&dir);
-    let cases: [(&str, &str, &str, &str); 6] = [
+    // (the FMUs are loaded side by side: a missing first and a missing second component)
+    let cases: [(&str, &str, &str, &str); 7] = [
         (
             "missing-fmu",
             "resources/train.fmu",
             "resources/nothere.fmu",
             "nothere.fmu",
+        ),
+        (
+            "missing-first-fmu",
+            "resources/bridge.fmu",
+            "resources/gone.fmu",
+            "component \"bridge\": its FMU resources/gone.fmu does not exist",
         ),
         (
             "unknown-variable",
