@@ -456,3 +456,20 @@ impl<M: FmuModel> Instance<M> {
         Ok((frame, model))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::type_tag;
+
+    /// Component and state pointers of one model type are told from another's by the tag: it
+    /// differs between types and is the same on every call.
+    #[test]
+    fn the_type_tag_differs_between_types_and_is_stable() {
+        struct A;
+        struct B;
+        assert_ne!(type_tag::<A>(), type_tag::<B>());
+        assert_ne!(type_tag::<A>(), type_tag::<u64>());
+        assert_eq!(type_tag::<A>(), type_tag::<A>());
+        assert_ne!(type_tag::<A>(), 0);
+    }
+}
