@@ -45,11 +45,35 @@ impl Fnv1a128 {
     }
 }
 
+/// Incremental 64-bit FNV-1a, also as a [`std::hash::Hasher`] (the component and state
+/// type tag hashes a `TypeId` with it).
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv1a64(u64);
+
+impl Default for Fnv1a64 {
+    fn default() -> Self {
+        Fnv1a64(FNV64_OFFSET)
+    }
+}
+
+impl std::hash::Hasher for Fnv1a64 {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(FNV64_PRIME);
+        }
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
 /// 64-bit FNV-1a of `bytes` (used for the FMU-state header and checksum).
 pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(FNV64_OFFSET, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(FNV64_PRIME)
-    })
+    use std::hash::Hasher;
+    let mut h = Fnv1a64::default();
+    h.write(bytes);
+    h.finish()
 }
 
 /// The GUID of an FMU: a UUID-formatted (`xxxxxxxx-xxxx-8xxx-yxxx-xxxxxxxxxxxx`,

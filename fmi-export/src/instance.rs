@@ -35,19 +35,7 @@ fn time_tolerance(t: f64) -> f64 {
 /// C API checks it).
 pub(crate) fn type_tag<M: 'static>() -> u64 {
     use std::hash::{Hash, Hasher};
-    /// FNV-1a over whatever the `TypeId` writes.
-    struct Fold(u64);
-    impl Hasher for Fold {
-        fn finish(&self) -> u64 {
-            self.0
-        }
-        fn write(&mut self, bytes: &[u8]) {
-            for &b in bytes {
-                self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
-            }
-        }
-    }
-    let mut h = Fold(0xcbf2_9ce4_8422_2325);
+    let mut h = crate::guid::Fnv1a64::default();
     std::any::TypeId::of::<M>().hash(&mut h);
     h.finish()
 }

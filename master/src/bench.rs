@@ -53,38 +53,40 @@ pub struct BenchArgs {
     pub repeat: u32,
 }
 
-/// The `[run]` table of the bench and scale scenarios.
-macro_rules! bench_run {
-    () => {
-        r#"[run]
+/// A scenario of the bench's kind: `name`, the `[bridge]` table's own lines, the number of
+/// coaches and the probe's position; the run, the bridge's damping and track position, the
+/// coaches, the track and the coupling are the bench case's.
+macro_rules! bench_like {
+    ($name:literal, $bridge:literal, $vehicles:literal, $probe_x_m:literal) => {
+        concat!(
+            "name = \"",
+            $name,
+            r#""
+[run]
 speed_kmh = 70.0
 dt_s = 0.005
 solver = "monolithic"
 free_vibration_s = 0.0
 output_every = 1000000
-"#
-    };
-}
-
-/// The modal damping and track position of the bench and scale scenarios' bridges, and
-/// their coaches (the count follows).
-macro_rules! bench_damping_and_coaches {
-    () => {
-        r#"damping_ratio = 0.01
+[bridge]
+"#,
+            $bridge,
+            r#"damping_ratio = 0.01
 damping_ratio_torsional = 0.005
 track_eccentricity_m = 2.05
 track_height_m = 1.25
 [train]
 kind = "coach_27dof"
 preset = "xia2000"
-"#
-    };
-}
-
-/// The `[track]` and `[coupling]` tables of the bench and scale scenarios.
-macro_rules! bench_track_and_coupling {
-    () => {
-        r#"[track]
+vehicles = "#,
+            $vehicles,
+            r#"
+[[probe]]
+name = "mid"
+x_m = "#,
+            $probe_x_m,
+            r#"
+[track]
 irregularity = { spectrum = "chinese-main-line", seed = 1, lambda_min_m = 2.0, lambda_max_m = 80.0 }
 [coupling]
 scheme = "implicit"
@@ -93,27 +95,6 @@ relaxation = 1.0
 reuse_steps = 8
 atol = 1e-8
 "#
-    };
-}
-
-/// A scenario of the bench's kind: `name`, the `[bridge]` table's own lines, the number of
-/// coaches and the probe's position.
-macro_rules! bench_like {
-    ($name:literal, $bridge:literal, $vehicles:literal, $probe_x_m:literal) => {
-        concat!(
-            "name = \"",
-            $name,
-            "\"\n",
-            bench_run!(),
-            "[bridge]\n",
-            $bridge,
-            bench_damping_and_coaches!(),
-            "vehicles = ",
-            $vehicles,
-            "\n[[probe]]\nname = \"mid\"\nx_m = ",
-            $probe_x_m,
-            "\n",
-            bench_track_and_coupling!()
         )
     };
 }

@@ -362,11 +362,12 @@ impl Monolithic {
         }));
     }
 
-    /// [`Self::deck_motion_into`] of the wheelsets `busy` at the end of a step from `Ψ q₁` alone: Newmark's
-    /// `q̇₁ = a1 q₁ − q_c` and `q̈₁ = a0 q₁ − q_m` give `Ψ q̇₁ = a1 Ψ q₁ − Ψ q_c` and
-    /// `Ψ q̈₁ = a0 Ψ q₁ − Ψ q_m`, with the step's `pred[w] = (Ψ q_c, Ψ q_m)` under the same
-    /// shapes: one pass over the shapes instead of three (the other entries of `out` are left
-    /// as they are; `out` gets one entry per wheelset).
+    /// [`Self::deck_motion_into`] of the wheelsets `busy` at the end of a step from `Ψ q₁`
+    /// alone: Newmark's `q̇₁ = a1 q₁ − q_c` and `q̈₁ = a0 q₁ − q_m` give
+    /// `Ψ q̇₁ = a1 Ψ q₁ − Ψ q_c` and `Ψ q̈₁ = a0 Ψ q₁ − Ψ q_m`, with the step's
+    /// `pred[w] = (Ψ q_c, Ψ q_m)` under the same shapes: one pass over the shapes instead of
+    /// three (the other entries of `out` are left as they are; `out` gets one entry per
+    /// wheelset).
     fn deck_motion_at_end(
         &self,
         busy: &[usize],
