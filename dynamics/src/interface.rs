@@ -146,6 +146,7 @@ pub mod wheel {
 }
 
 /// Channel `k` of [`WHEEL_CHANNELS`] in a wheelset's input.
+#[inline]
 pub fn wheel_channel(input: &mut WheelInput, k: usize) -> &mut f64 {
     match k {
         wheel::X => &mut input.x,
@@ -156,6 +157,7 @@ pub fn wheel_channel(input: &mut WheelInput, k: usize) -> &mut f64 {
 
 /// The wheelset input of the [`WHEEL_CHANNELS`] `v` (5 values in their order; channel `k`
 /// is [`wheel_channel`]`(input, k)`).
+#[inline]
 pub fn wheel_from_values(v: &[f64]) -> WheelInput {
     WheelInput {
         x: v[wheel::X],
@@ -165,12 +167,14 @@ pub fn wheel_from_values(v: &[f64]) -> WheelInput {
 }
 
 /// Channel `k` of [`RAIL_CHANNELS`] in a wheelset's rail motion `(u, u̇, ü)`.
+#[inline]
 pub fn rail_channel(rail: &mut [Vector3<f64>; 3], k: usize) -> &mut f64 {
     &mut rail[k / 3][k % 3]
 }
 
 /// The [`RAIL_CHANNELS`] of a rail motion in their order (channel `k` is
 /// [`rail_channel`]`(rail, k)`).
+#[inline]
 pub fn rail_values(rail: &[Vector3<f64>; 3]) -> [f64; 9] {
     let [u, ud, udd] = rail;
     [u.x, u.y, u.z, ud.x, ud.y, ud.z, udd.x, udd.y, udd.z]
@@ -178,6 +182,7 @@ pub fn rail_values(rail: &[Vector3<f64>; 3]) -> [f64; 9] {
 
 /// The rail motion of the [`RAIL_CHANNELS`] `v` (9 values in their order; the inverse of
 /// [`rail_values`]).
+#[inline]
 pub fn rail_from_values(v: &[f64]) -> [Vector3<f64>; 3] {
     let d = |i: usize| Vector3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
     [d(0), d(1), d(2)]
@@ -219,27 +224,32 @@ pub struct Block {
 
 impl Block {
     /// Channels per index.
+    #[inline]
     pub fn width(&self) -> usize {
         self.channels.len()
     }
 
     /// Number of scalars.
+    #[inline]
     pub fn len(&self) -> usize {
         self.count * self.width()
     }
 
     /// Whether the block holds no scalar.
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
     /// Value reference of channel `k` of index `i` (0-based).
+    #[inline]
     pub fn vr(&self, i: usize, k: usize) -> u32 {
         debug_assert!(i < self.count && k < self.width());
         self.vr0 + (i * self.width() + k) as u32
     }
 
     /// `(i, k)` of a value reference inside the block.
+    #[inline]
     pub fn decode(&self, vr: u32) -> Option<(usize, usize)> {
         let o = vr.checked_sub(self.vr0)? as usize;
         (o < self.len()).then(|| (o / self.width(), o % self.width()))
@@ -247,6 +257,7 @@ impl Block {
 
     /// Offset in the block of `vr[0]` when `vr` is a run of consecutive value references
     /// (`vr[i] = vr[0] + i`) that lies wholly inside the block; `None` otherwise (also empty).
+    #[inline]
     pub fn run(&self, vr: &[u32]) -> Option<usize> {
         let first = *vr.first()?;
         let o = first.checked_sub(self.vr0)? as usize;
@@ -299,16 +310,19 @@ impl Block {
 
     /// The output-buffer slot of `vr[0]` when `vr` is a [`Block::run`] inside one of the
     /// output `blocks` (whose slots follow their value references).
+    #[inline]
     pub fn output_run(blocks: &[Block], vr: &[u32]) -> Option<usize> {
         blocks.iter().find_map(|b| Some(b.slot0? + b.run(vr)?))
     }
 
     /// Output-buffer slot of channel `k` of index `i` (outputs only).
+    #[inline]
     pub fn slot(&self, i: usize, k: usize) -> usize {
         self.slot0.expect("an output block") + i * self.width() + k
     }
 
     /// The output-buffer slots of index `i` (outputs only).
+    #[inline]
     pub fn slots(&self, i: usize) -> std::ops::Range<usize> {
         self.slot(i, 0)..self.slot(i, 0) + self.width()
     }

@@ -47,6 +47,7 @@ impl RailProfile for Smooth {
 
 /// Rail DOF motion `(u, u̇, ü)` in the order (lateral, roll, vertical) of an irregularity
 /// seen at constant speed `v`.
+#[inline]
 pub fn rail_motion(r: &RailIrregularity, v: f64) -> [Vector3<f64>; 3] {
     [
         Vector3::new(r.lateral[0], r.cross_level[0], r.vertical[0]),

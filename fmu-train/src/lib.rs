@@ -217,10 +217,16 @@ impl TrainFmu {
         Ok(TrainSide::new(Arc::new(self.res.build(self.start_time)?)))
     }
 
+    /// Computes the outputs from the state and inputs unless they are current.
+    #[inline]
     fn refresh(&mut self) -> Result<(), String> {
-        if !self.dirty {
-            return Ok(());
+        if self.dirty {
+            self.compute_outputs()?;
         }
+        Ok(())
+    }
+
+    fn compute_outputs(&mut self) -> Result<(), String> {
         if !self.initialized {
             let mut side = self.build_side()?;
             pass_wind(&self.wind, &mut side);

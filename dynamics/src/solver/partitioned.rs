@@ -997,6 +997,7 @@ impl ShapeCache {
     /// Unless slot `w` has an entry at `x`: takes its older entry for `x` with the
     /// irregularity there, and returns `(2 w + slot, x)`, whose shapes are still to be made
     /// ([`Self::shapes_of`]).
+    #[inline]
     fn claim(&mut self, track: &dyn RailProfile, w: usize, x: f64) -> Option<(usize, f64)> {
         let bits = x.to_bits();
         if self.keys[w].iter().any(|k| k.0 == bits) {
@@ -1050,6 +1051,7 @@ impl ShapeCache {
     }
 
     /// The slot of wheelset `w`'s entry at `x` (made by [`Self::fill`] or [`Self::claim`]).
+    #[inline]
     fn slot(&self, w: usize, x: f64) -> usize {
         let bits = x.to_bits();
         self.keys[w]
@@ -1071,6 +1073,7 @@ impl ShapeCache {
 
     /// For sine shapes, the entry of wheelset slot `w` at `x`: `sin(k θ)` (None off the
     /// deck) and the irregularity there.
+    #[inline]
     fn sines(&self, w: usize, x: f64) -> (Option<&[f64]>, &RailIrregularity) {
         let slot = self.slot(w, x);
         let e = 2 * w + slot;
