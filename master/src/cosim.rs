@@ -73,6 +73,10 @@ impl Participant for FmuParticipant {
     fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
         self.inst.get_real(vrs, values).map(|_| ()).map_err(cerr)
     }
+    /// The importer's `get_real` refuses a value that is not finite, naming the variable.
+    fn get_real_refuses_non_finite(&self) -> bool {
+        true
+    }
     fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError> {
         match self.inst.do_step(t, h, false).map_err(cerr)? {
             StepResult::Discard => Ok(StepStatus::Discard),

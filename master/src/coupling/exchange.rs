@@ -280,7 +280,7 @@ impl Exchange {
             .map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
         // connected output k is run_values[at[k]]
         let values = &self.run_values;
-        if fmi_import::first_non_finite(values).is_some() {
+        if !part.get_real_refuses_non_finite() && fmi_import::first_non_finite(values).is_some() {
             if let Some(k) = (0..vrs.len()).find(|&k| !values[run.at[k]].is_finite()) {
                 return Err(CouplingError::new(format!(
                     "{}: output vr {} is not finite ({})",

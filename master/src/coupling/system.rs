@@ -38,6 +38,12 @@ pub trait Participant {
     fn name(&self) -> &str;
     fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), CouplingError>;
     fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CouplingError>;
+    /// Whether [`Participant::get_real`] itself refuses a NaN or infinite value (an error
+    /// naming the variable), so that the exchange need not look at the values again.
+    /// Default: no, the exchange checks them.
+    fn get_real_refuses_non_finite(&self) -> bool {
+        false
+    }
     /// Advance from `t` to `t + h`.
     fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError>;
     /// Save the complete state into the participant's single rollback slot (overwriting).
