@@ -24,12 +24,32 @@ pub fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
 /// column).
 #[inline]
 pub fn axpy_columns(y: &mut [f64], a: &[f64], columns: &[f64]) {
+    axpy_columns_strided(y, a, columns, y.len())
+}
+
+/// [`axpy_columns`] with column `j` the `y.len()` values from `j · stride` of `columns`
+/// (`stride ≥ y.len()`): `y ← y + Σⱼ aⱼ xⱼ`, added in order `j = 0, 1, …` over the columns
+/// that `columns` holds whole.
+#[inline]
+pub fn axpy_columns_strided(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
+    assert!(
+        stride >= y.len(),
+        "columns overlap: stride {stride} < {}",
+        y.len()
+    );
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2 (checked just above).
-        return unsafe { axpy_columns_avx2(y, a, columns) };
+        return unsafe { axpy_columns_avx2(y, a, columns, stride) };
     }
-    axpy_columns_body(y, a, columns)
+    axpy_columns_body(y, a, columns, stride)
+}
+
+/// The coefficients of the columns that `columns` holds whole (`stride ≥ n > 0`).
+#[inline(always)]
+fn whole_columns(a: &[f64], n: usize, len: usize, stride: usize) -> &[f64] {
+    let m = if len < n { 0 } else { (len - n) / stride + 1 };
+    &a[..a.len().min(m)]
 }
 
 /// `acc[k][d] ← acc[k][d] + Σₙ psi[n][k] · modal[n][d]`, summed over `n` in order: the rail
@@ -106,12 +126,16 @@ fn axpy_body(y: &mut [f64], a: f64, x: &[f64]) {
 }
 
 #[inline(always)]
-fn axpy_columns_body(y: &mut [f64], a: &[f64], columns: &[f64]) {
-    if y.is_empty() {
+fn axpy_columns_body(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
+    let n = y.len();
+    if n == 0 {
         return;
     }
-    for (&aj, x) in a.iter().zip(columns.chunks_exact(y.len())) {
-        axpy_body(y, aj, x);
+    for (j, &aj) in whole_columns(a, n, columns.len(), stride)
+        .iter()
+        .enumerate()
+    {
+        axpy_body(y, aj, &columns[j * stride..j * stride + n]);
     }
 }
 
@@ -138,7 +162,7 @@ fn axpy_avx2(y: &mut [f64], a: f64, x: &[f64]) {
 /// likewise one by one. Every `yᵢ` rounds exactly as in the column-by-column loop.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64]) {
+fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_storeu_pd,
     };
@@ -147,21 +171,21 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64]) {
         return;
     }
     // the columns present (no division in the usual case, all of them)
-    let a = if a.len() * n <= columns.len() {
+    let a = if a.is_empty() || (a.len() - 1) * stride + n <= columns.len() {
         a
     } else {
-        &a[..columns.len() / n]
+        whole_columns(a, n, columns.len(), stride)
     };
-    let columns = &columns[..a.len() * n];
     let rows = n - n % 4;
     let (yp, xp) = (y.as_mut_ptr(), columns.as_ptr());
     let mut i = 0;
     while i < rows {
-        // SAFETY: rows i..i + 4 ≤ n of y and of each column j (its values j n .. j n + n).
+        // SAFETY: rows i..i + 4 ≤ n of y and of each column j (values j·stride .. j·stride + n,
+        // inside `columns` for the columns kept above).
         unsafe {
             let mut acc = _mm256_loadu_pd(yp.add(i));
             for (j, &aj) in a.iter().enumerate() {
-                let xv = _mm256_loadu_pd(xp.add(j * n + i));
+                let xv = _mm256_loadu_pd(xp.add(j * stride + i));
                 acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(aj), xv));
             }
             _mm256_storeu_pd(yp.add(i), acc);
@@ -170,7 +194,7 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64]) {
     }
     for (i, yi) in y.iter_mut().enumerate().skip(rows) {
         for (j, &aj) in a.iter().enumerate() {
-            *yi += aj * columns[j * n + i];
+            *yi += aj * columns[j * stride + i];
         }
     }
 }
@@ -233,6 +257,19 @@ mod tests {
                 assert!(
                     c.iter().zip(&d).all(|(c, d)| c.to_bits() == d.to_bits()),
                     "axpy_columns, n = {n}, m = {m}"
+                );
+                // the first n - 2 values of each column, columns n apart
+                let k = n.saturating_sub(2);
+                let (mut e, mut f) = (values(k, 0.4), values(k, 0.4));
+                if n > 0 {
+                    for (&aj, col) in coeffs.iter().zip(cols.chunks_exact(n)) {
+                        axpy(&mut e, aj, &col[..k]);
+                    }
+                }
+                axpy_columns_strided(&mut f, &coeffs, &cols, n.max(1));
+                assert!(
+                    e.iter().zip(&f).all(|(e, f)| e.to_bits() == f.to_bits()),
+                    "axpy_columns_strided, n = {n}, m = {m}"
                 );
             }
             let psi: Vec<[f64; 3]> = (0..n)

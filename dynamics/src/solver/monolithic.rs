@@ -701,7 +701,7 @@ impl Monolithic {
         for n in 0..nb {
             a[n * nb + n] = dhat[n];
         }
-        let (mut u, mut su) = (Vec::new(), Vec::new());
+        let (mut u, mut su, mut coeffs) = (Vec::new(), Vec::new(), Vec::new());
         for &i in vehicles {
             let f0 = self.first_ws[i];
             let nwi = self.train.vehicles[i].model.wheelsets.len();
@@ -728,14 +728,14 @@ impl Monolithic {
                     crate::simd::axpy(out, v, &u[c * nb..(c + 1) * nb]);
                 }
             }
-            // the upper triangle (rows 0..=j of column j), mirrored below at the end
-            for r in 0..3 * nwi {
-                let (ur, sur) = (&u[r * nb..(r + 1) * nb], &su[r * nb..(r + 1) * nb]);
-                for (j, (col, &s)) in a.chunks_exact_mut(nb).zip(sur).enumerate() {
-                    if s != 0.0 {
-                        crate::simd::axpy(&mut col[..=j], s, &ur[..=j]);
-                    }
-                }
+            // the upper triangle (rows 0..=j of column j), mirrored below at the end: column j
+            // takes Σ_r (S U)[r, j] U[r, 0..=j] over the rail DOFs r in order (a zero
+            // coefficient adds an exact zero: the shapes are finite)
+            let m = 3 * nwi;
+            for (j, col) in a.chunks_exact_mut(nb).enumerate() {
+                coeffs.clear();
+                coeffs.extend((0..m).map(|r| su[r * nb + j]));
+                crate::simd::axpy_columns_strided(&mut col[..=j], &coeffs, &u, nb);
             }
         }
         for j in 0..nb {
