@@ -1,12 +1,15 @@
-//! The innermost loops of the co-simulation's FMU steps, compiled twice — for the baseline
-//! x86-64 (two-wide SSE2 vectors) and for AVX2 (four-wide) — and chosen once per call by the
-//! processor's features.
+//! The innermost loops of the FMU steps and of the monolithic step, compiled twice — for the
+//! baseline x86-64 (two-wide SSE2 vectors) and for AVX2 (four-wide) — and chosen once per call
+//! by the processor's features.
 //!
 //! Each kernel is a set of independent element-wise updates such as `yᵢ ← yᵢ + a·xᵢ`, each
 //! element's operations in a fixed order (no sums across elements, and Rust never contracts
 //! `a·x + y` into a fused multiply-add), so the wider
 //! vectors change only how many elements one instruction updates, not a single rounding:
-//! both builds give bitwise the same results (tested below).
+//! both builds give bitwise the same results (tested below). The AVX2 form of
+//! [`axpy_columns_strided`] is written out with intrinsics: it keeps four elements in a
+//! register through all the columns instead of passing over `y` once per column, the same
+//! product and sum per element and column, in column order.
 
 /// `y ← y + a x` (over the shorter of the two).
 #[inline]
