@@ -209,9 +209,10 @@ impl<M: FmuModel> Instance<M> {
 
     pub(crate) fn get_real(&mut self, vr: &[u32], values: &mut [f64]) -> Result<Status, String> {
         self.model.get_reals(vr, values)?;
-        if let Some((r, v)) = vr.iter().zip(values.iter()).find(|(_, v)| !v.is_finite()) {
+        if let Some(i) = fmi2::first_non_finite(&values[..vr.len().min(values.len())]) {
             return Err(format!(
-                "Real value reference {r} has the non-finite value {v}"
+                "Real value reference {} has the non-finite value {}",
+                vr[i], values[i]
             ));
         }
         Ok(Status::Ok)
