@@ -256,7 +256,7 @@ impl WeightedRms {
 
 #[cfg(test)]
 mod tests {
-    use super::{Groups, WeightedRms};
+    use super::{max_abs_into, Groups, WeightedRms};
 
     /// Interleaved groups (as position, speed, force, moment of each wheelset), every length
     /// through the tail cases of the four running maxima: the maxima by member lists equal
@@ -284,6 +284,39 @@ mod tests {
                     .all(|(a, b)| a.to_bits() == b.to_bits()),
                 "n = {n}"
             );
+        }
+    }
+
+    /// The measure's four-at-a-time quotients sum in the order of a plain loop, and the group
+    /// maxima by comparison equal `f64::max`'s, NaN (passed over) and zeros included: bit for
+    /// bit, every length through the tails.
+    #[test]
+    fn measure_and_maxima_equal_the_plain_loops_bit_for_bit() {
+        let m = WeightedRms::new(1e-10, 1e-12);
+        for n in 1..23 {
+            let x: Vec<f64> = (0..n)
+                .map(|i| ((i as f64 + 0.7) * 1.3).sin() * 1e3)
+                .collect();
+            let xt: Vec<f64> = x.iter().map(|v| v * (1.0 + 7e-11) + 3e-12).collect();
+            let d = |i: usize, t: f64| 1e-10 * (t.abs() + i as f64) + 1e-12;
+            let plain = (0..n)
+                .map(|i| {
+                    let e = (xt[i] - x[i]) / d(i, xt[i]);
+                    e * e
+                })
+                .fold(0.0, |s, v| s + v);
+            let plain = (plain / n as f64).sqrt();
+            assert_eq!(m.rms_by(&x, &xt, d).to_bits(), plain.to_bits(), "n = {n}");
+            let mut v = x.clone();
+            v[n / 2] = f64::NAN;
+            v[0] = -0.0;
+            let members = vec![(0..n).collect::<Vec<_>>(), (0..n).step_by(3).collect()];
+            let mut out = [0.0, 2.5];
+            max_abs_into(&members, &v, &mut out);
+            for (list, (o, start)) in members.iter().zip(out.iter().zip([0.0, 2.5])) {
+                let expected = list.iter().fold(start, |a: f64, &i| a.max(v[i].abs()));
+                assert_eq!(o.to_bits(), expected.to_bits(), "n = {n}");
+            }
         }
     }
 
