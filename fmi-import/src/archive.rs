@@ -292,26 +292,46 @@ pub fn unpack(fmu: &Path, limits: &UnpackLimits) -> Result<UnpackedDir, FmiError
 
 /// The first name the central directory of the zip file lists twice, read directly from
 /// the file (the end-of-central-directory record and the file headers; archives too large
-/// for the classic format are left to the reader).
+/// for the classic format are left to the reader). Only the file's tail, where the record
+/// is, and the part from the central directory on are read, not the entries' data.
 fn repeated_name(path: &Path) -> Option<String> {
-    let bytes = fs::read(path).ok()?;
-    let u16_at = |o: usize| -> Option<usize> {
-        Some(u16::from_le_bytes(bytes.get(o..o + 2)?.try_into().ok()?) as usize)
+    use std::io::{Seek, SeekFrom};
+    let mut file = fs::File::open(path).ok()?;
+    let len = usize::try_from(file.metadata().ok()?.len()).ok()?;
+    // the file from byte `start` to its end
+    let mut read_from = |start: usize| -> Option<Vec<u8>> {
+        file.seek(SeekFrom::Start(start as u64)).ok()?;
+        let mut buf = Vec::with_capacity(len.saturating_sub(start));
+        file.read_to_end(&mut buf).ok()?;
+        Some(buf)
     };
-    let u32_at = |o: usize| -> Option<usize> {
-        Some(u32::from_le_bytes(bytes.get(o..o + 4)?.try_into().ok()?) as usize)
+    let le = |bytes: &[u8], o: usize, width: usize| -> Option<usize> {
+        let b = bytes.get(o..o + width)?;
+        Some(b.iter().rev().fold(0, |v, &x| (v << 8) | usize::from(x)))
     };
-    let tail = bytes.len().saturating_sub(22 + 65_535);
-    let eocd = (tail..bytes.len().saturating_sub(21))
+    let tail_start = len.saturating_sub(22 + 65_535);
+    let tail = read_from(tail_start)?;
+    let eocd = (0..tail.len().saturating_sub(21))
         .rev()
-        .find(|&i| bytes[i..i + 4] == [0x50, 0x4b, 0x05, 0x06])?;
-    let (count, mut at) = (u16_at(eocd + 10)?, u32_at(eocd + 16)?);
+        .find(|&i| tail[i..i + 4] == [0x50, 0x4b, 0x05, 0x06])?;
+    let (count, directory) = (le(&tail, eocd + 10, 2)?, le(&tail, eocd + 16, 4)?);
+    // the bytes from the central directory on, and the file offset of their first
+    let (bytes, base) = if directory >= tail_start {
+        (tail, tail_start)
+    } else {
+        (read_from(directory)?, directory)
+    };
+    let mut at = directory - base;
     let mut seen = HashSet::new();
     for _ in 0..count {
         if bytes.get(at..at + 4)? != [0x50, 0x4b, 0x01, 0x02] {
             return None;
         }
-        let (n, extra, comment) = (u16_at(at + 28)?, u16_at(at + 30)?, u16_at(at + 32)?);
+        let (n, extra, comment) = (
+            le(&bytes, at + 28, 2)?,
+            le(&bytes, at + 30, 2)?,
+            le(&bytes, at + 32, 2)?,
+        );
         let name = String::from_utf8_lossy(bytes.get(at + 46..at + 46 + n)?).into_owned();
         if !seen.insert(name.clone()) {
             return Some(name);
@@ -437,27 +457,36 @@ mod tests {
     #[test]
     fn refuses_a_name_the_zip_reader_would_keep_once() {
         // two entries, then the second renamed to the first's name in the local and
-        // central headers (the zip writer itself refuses equal names)
-        let (dir, path) = make_zip(&[
-            ("modelDescription.xml", b"<a/>"),
-            ("modelDescriptioX.xml", b"<b/>"),
-        ]);
-        let mut bytes = fs::read(&path).unwrap();
-        let (from, to) = (b"modelDescriptioX.xml", b"modelDescription.xml");
-        let mut i = 0;
-        while let Some(p) = bytes[i..].windows(from.len()).position(|w| w == from) {
-            bytes[i + p..i + p + from.len()].copy_from_slice(to);
-            i += p + from.len();
+        // central headers (the zip writer itself refuses equal names); also with a central
+        // directory that starts more than 64 KiB before the end of the file (1500 more
+        // entries), which is read apart from the file's tail
+        let names: Vec<String> = (0..1500)
+            .map(|i| format!("resources/a-file-with-a-long-name-{i:05}.txt"))
+            .collect();
+        for extra in [0, names.len()] {
+            let mut entries: Vec<(&str, &[u8])> = vec![
+                ("modelDescription.xml", b"<a/>"),
+                ("modelDescriptioX.xml", b"<b/>"),
+            ];
+            entries.extend(names[..extra].iter().map(|n| (n.as_str(), &b"x"[..])));
+            let (dir, path) = make_zip(&entries);
+            let mut bytes = fs::read(&path).unwrap();
+            let (from, to) = (b"modelDescriptioX.xml", b"modelDescription.xml");
+            let mut i = 0;
+            while let Some(p) = bytes[i..].windows(from.len()).position(|w| w == from) {
+                bytes[i + p..i + p + from.len()].copy_from_slice(to);
+                i += p + from.len();
+            }
+            let twice = dir.path().join("twice.fmu");
+            fs::write(&twice, bytes).unwrap();
+            let e = unpack(&twice, &UnpackLimits::default())
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e, "twice.fmu: entry \"modelDescription.xml\": the archive holds this path twice",
+                "{extra} more entries"
+            );
         }
-        let twice = dir.path().join("twice.fmu");
-        fs::write(&twice, bytes).unwrap();
-        let e = unpack(&twice, &UnpackLimits::default())
-            .unwrap_err()
-            .to_string();
-        assert_eq!(
-            e,
-            "twice.fmu: entry \"modelDescription.xml\": the archive holds this path twice"
-        );
     }
 
     #[test]
