@@ -639,32 +639,101 @@ fn write_ssp(
         conns,
         crate::ssp::COUPLING_ANNOTATION,
     );
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut z = zip::ZipWriter::new(file);
-    // The FMUs are zip archives already: stored, not compressed a second time (which
-    // would cost time on every export and unpack and save nothing).
+    let fmus: Vec<(String, Vec<u8>)> = parts
+        .iter()
+        .map(|(side, fmu, _)| {
+            std::fs::read(fmu)
+                .map(|bytes| (format!("resources/{}.fmu", side.name()), bytes))
+                .map_err(|e| format!("{}: {e}", fmu.display()))
+        })
+        .collect::<Result<_, _>>()?;
+    if ssp_is_current(path, &ssd, &fmus) {
+        return Ok(());
+    }
+    // written under a temporary name and renamed: the system is complete or untouched
+    let mut temp_name = std::ffi::OsString::from(".");
+    temp_name.push(path.file_name().unwrap_or_default());
+    temp_name.push(format!(".{}.tmp", std::process::id()));
+    let temp = path.with_file_name(temp_name);
+    let written = write_ssp_zip(&temp, &ssd, &fmus).and_then(|()| std::fs::rename(&temp, path));
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(&temp);
+        format!("{}: {e}", path.display())
+    })
+}
+
+/// The SSP archive: the description, deflated, and the FMUs (zip archives already) stored.
+fn write_ssp_zip(path: &Path, ssd: &str, fmus: &[(String, Vec<u8>)]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut z = zip::ZipWriter::new(std::io::BufWriter::new(std::fs::File::create(path)?));
     let deflated = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated);
-    let stored = deflated.compression_method(zip::CompressionMethod::Stored);
-    let mut add = |name: &str, bytes: &[u8]| -> Result<(), String> {
-        use std::io::Write;
-        let opts = if name.ends_with(".fmu") {
-            stored
-        } else {
-            deflated
-        };
-        z.start_file(name, opts)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        z.write_all(bytes)
-            .map_err(|e| format!("{}: {e}", path.display()))
-    };
-    add("SystemStructure.ssd", ssd.as_bytes())?;
-    for (side, fmu, _) in parts {
-        add(
-            &format!("resources/{}.fmu", side.name()),
-            &std::fs::read(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?,
+    z.start_file("SystemStructure.ssd", deflated)?;
+    z.write_all(ssd.as_bytes())?;
+    for (name, bytes) in fmus {
+        z.start_file(
+            name,
+            deflated.compression_method(zip::CompressionMethod::Stored),
         )?;
+        z.write_all(bytes)?;
     }
-    z.finish().map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(())
+    z.finish()?.flush()
+}
+
+/// Whether the SSP at `path` has this description and these FMUs (each compared by its
+/// length and the CRC-32 the archive's directory records), so that it need not be written.
+fn ssp_is_current(path: &Path, ssd: &str, fmus: &[(String, Vec<u8>)]) -> bool {
+    use std::io::Read;
+    let archive = std::fs::File::open(path).map(zip::ZipArchive::new);
+    let Ok(Ok(mut z)) = archive else {
+        return false;
+    };
+    if z.len() != fmus.len() + 1 {
+        return false;
+    }
+    let mut text = String::new();
+    let same_ssd = z
+        .by_name("SystemStructure.ssd")
+        .is_ok_and(|mut e| e.read_to_string(&mut text).is_ok() && text == ssd);
+    same_ssd
+        && fmus.iter().all(|(name, bytes)| {
+            z.by_name(name).is_ok_and(|e| {
+                e.size() == bytes.len() as u64 && e.crc32() == crc32fast::hash(bytes)
+            })
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fmi_import::archive::UnpackedDir;
+
+    #[test]
+    fn a_system_archive_is_current_only_with_the_same_description_and_fmus() {
+        let dir = UnpackedDir::create("tbi-export-test").unwrap();
+        let path = dir.path().join("system.ssp");
+        let fmus = vec![
+            ("resources/a.fmu".to_owned(), b"first archive".to_vec()),
+            ("resources/b.fmu".to_owned(), b"second".to_vec()),
+        ];
+        assert!(!ssp_is_current(&path, "<ssd/>", &fmus), "no file yet");
+        write_ssp_zip(&path, "<ssd/>", &fmus).unwrap();
+        assert!(ssp_is_current(&path, "<ssd/>", &fmus));
+        assert!(
+            !ssp_is_current(&path, "<ssd />", &fmus),
+            "another description"
+        );
+        let mut changed = fmus.clone();
+        changed[1].1 = b"secone".to_vec(); // same length, other bytes
+        assert!(!ssp_is_current(&path, "<ssd/>", &changed));
+        assert!(
+            !ssp_is_current(&path, "<ssd/>", &fmus[..1]),
+            "one FMU fewer"
+        );
+        let mut more = fmus.clone();
+        more.push(("resources/c.fmu".to_owned(), Vec::new()));
+        assert!(!ssp_is_current(&path, "<ssd/>", &more), "one FMU more");
+        std::fs::write(&path, b"not a zip").unwrap();
+        assert!(!ssp_is_current(&path, "<ssd/>", &fmus));
+    }
 }
