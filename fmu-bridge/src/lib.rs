@@ -274,12 +274,7 @@ impl FmuModel for BridgeFmu {
         let mut all = bytes;
         let track: Arc<dyn RailProfile> = if res.has_track_record {
             let tp = resources.join(TRACK_RESOURCE);
-            let text = std::fs::read(&tp).map_err(|e| format!("{}: {e}", tp.display()))?;
-            let record = tbi_track::Record::parse(
-                &String::from_utf8_lossy(&text),
-                &tp.display().to_string(),
-            )
-            .map_err(|e| e.to_string())?;
+            let record = tbi_track::Record::read(&tp).map_err(|e| e.to_string())?;
             all.extend_from_slice(&record.profile().identity_bytes());
             Arc::new(tbi_track::Irregularity::Record(record))
         } else {

@@ -365,6 +365,21 @@ fn train_so_passes_the_misuse_harness() {
 
 /// Copy of the FMU `src` to `dst` with `modelDescription.xml` edited and entries dropped.
 fn repack(src: &Path, dst: &Path, edit_md: impl Fn(String) -> String, drop: &[&str]) {
+    repack_entries(
+        src,
+        dst,
+        |name, bytes| match name {
+            "modelDescription.xml" => {
+                edit_md(String::from_utf8(bytes).expect("utf-8")).into_bytes()
+            }
+            _ => bytes,
+        },
+        drop,
+    )
+}
+
+/// [`repack`] with every entry's bytes passed through `edit(name, bytes)`.
+fn repack_entries(src: &Path, dst: &Path, edit: impl Fn(&str, Vec<u8>) -> Vec<u8>, drop: &[&str]) {
     let mut zin = zip::ZipArchive::new(std::fs::File::open(src).expect("open fmu")).expect("zip");
     let mut zout = zip::ZipWriter::new(std::fs::File::create(dst).expect("create"));
     let opts = zip::write::SimpleFileOptions::default();
@@ -376,9 +391,7 @@ fn repack(src: &Path, dst: &Path, edit_md: impl Fn(String) -> String, drop: &[&s
         }
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).expect("read entry");
-        if name == "modelDescription.xml" {
-            bytes = edit_md(String::from_utf8(bytes).expect("utf-8")).into_bytes();
-        }
+        let bytes = edit(&name, bytes);
         zout.start_file(name, opts).expect("start");
         zout.write_all(&bytes).expect("write");
     }
@@ -438,6 +451,28 @@ fn wrong_guid_or_missing_resource_gives_null_with_a_logged_reason() {
     repack(&e.bridge, &missing, |md| md, &["resources/track.csv"]);
     let msg = instantiate_error(&missing);
     assert!(msg.contains("track.csv"), "{msg}");
+    // a record that is not UTF-8 text: refused, naming the file and the first bad byte
+    let garbled = dir.join("bridge-garbled-track.fmu");
+    let at = std::cell::Cell::new(0);
+    repack_entries(
+        &e.bridge,
+        &garbled,
+        |name, mut bytes| {
+            if name == "resources/track.csv" {
+                at.set(bytes.len() / 2);
+                bytes[at.get()] = 0xff;
+            }
+            bytes
+        },
+        &[],
+    );
+    let msg = instantiate_error(&garbled);
+    println!("{msg}");
+    assert!(msg.contains("track.csv"), "{msg}");
+    assert!(
+        msg.contains(&format!("UTF-8 at byte {}", at.get())),
+        "{msg}"
+    );
 }
 
 /// NaN and ±∞ written to every input (and, for the train, every parameter) in every phase
