@@ -650,16 +650,8 @@ fn write_ssp(
     if ssp_is_current(path, &ssd, &fmus) {
         return Ok(());
     }
-    // written under a temporary name and renamed: the system is complete or untouched
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(path.file_name().unwrap_or_default());
-    temp_name.push(format!(".{}.tmp", std::process::id()));
-    let temp = path.with_file_name(temp_name);
-    let written = write_ssp_zip(&temp, &ssd, &fmus).and_then(|()| std::fs::rename(&temp, path));
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(&temp);
-        format!("{}: {e}", path.display())
-    })
+    // the system is complete or untouched
+    crate::outdir::replace_atomically(path, |tmp| write_ssp_zip(tmp, &ssd, &fmus))
 }
 
 /// The SSP archive: the description, deflated, and the FMUs (zip archives already) stored.

@@ -89,12 +89,21 @@ pub fn process_alive(pid: u32) -> bool {
 
 /// Write `bytes` to `path` through a temporary file in the same folder and a rename.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    replace_atomically(path, |tmp| std::fs::write(tmp, bytes))
+}
+
+/// Write `path` through a temporary file in the same folder, which `write` fills, and a
+/// rename: on failure the temporary file is removed and `path` is left as it was.
+pub fn replace_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path) -> std::io::Result<()>,
+) -> Result<(), String> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    let result = std::fs::write(&tmp, bytes)
+    let result = write(&tmp)
         .and_then(|_| std::fs::rename(&tmp, path))
         .map_err(|e| format!("{}: {e}", path.display()));
     if result.is_err() {
