@@ -109,8 +109,8 @@ impl Record {
                 }
                 continue;
             }
-            let fields: Vec<&str> = t.split(',').map(str::trim).collect();
             if ncol == 0 {
+                let fields: Vec<&str> = t.split(',').map(str::trim).collect();
                 let with_slopes = fields.len() == 7 && fields[..] == COLUMNS[..];
                 if !(with_slopes || fields[..] == HEADER[..]) {
                     return Err(line_err(
@@ -123,38 +123,10 @@ impl Record {
                 ncol = fields.len();
                 continue;
             }
-            if fields.len() != ncol {
-                return Err(line_err(
-                    line,
-                    RecordProblem::ColumnCount {
-                        expected: ncol,
-                        found: fields.len(),
-                    },
-                ));
-            }
-            let mut row = [0.0; 7];
-            for (k, text) in fields.iter().enumerate() {
-                let column = COLUMNS[k];
-                let v: f64 = text.parse().map_err(|_| {
-                    line_err(
-                        line,
-                        RecordProblem::NotANumber {
-                            column,
-                            text: (*text).to_owned(),
-                        },
-                    )
-                })?;
-                if !v.is_finite() {
-                    return Err(line_err(
-                        line,
-                        RecordProblem::NotFinite {
-                            column,
-                            text: (*text).to_owned(),
-                        },
-                    ));
-                }
-                row[k] = v;
-            }
+            let row = match fast_row(raw, ncol) {
+                Some(row) => row,
+                None => parse_row(t, ncol, line, &line_err)?,
+            };
             if let Some(&previous) = x.last() {
                 if row[0] <= previous {
                     return Err(line_err(
@@ -332,4 +304,70 @@ fn fd_slopes(x: &[f64], r: &[f64], periodic: bool) -> Vec<f64> {
         m[n - 1] = d[n - 2] + h[n - 2] * (d[n - 2] - d[n - 3]) / (h[n - 3] + h[n - 2]);
     }
     m
+}
+
+/// A data row of exactly `ncol` finite numbers separated by bare commas (no blanks), as
+/// [`Profile::write_csv`] writes them; `None` for anything else, which [`parse_row`] then
+/// reads or reports. One pass over the bytes: the numbers are read where they stand
+/// (`fast_float2`, correctly rounded like `str::parse`, so the values are the same).
+#[inline]
+fn fast_row(line: &str, ncol: usize) -> Option<[f64; 7]> {
+    let mut rest = line.as_bytes();
+    let mut row = [0.0; 7];
+    for (k, v) in row[..ncol].iter_mut().enumerate() {
+        let (value, used) = fast_float2::parse_partial::<f64, _>(rest).ok()?;
+        if used == 0 || !value.is_finite() {
+            return None;
+        }
+        *v = value;
+        rest = &rest[used..];
+        if k + 1 < ncol {
+            rest = rest.strip_prefix(b",")?;
+        }
+    }
+    rest.is_empty().then_some(row)
+}
+
+/// A data row of `ncol` fields (blanks around fields allowed), or the error naming the line,
+/// the column and the text.
+fn parse_row(
+    t: &str,
+    ncol: usize,
+    line: usize,
+    line_err: &impl Fn(usize, RecordProblem) -> TrackError,
+) -> Result<[f64; 7], TrackError> {
+    let fields: Vec<&str> = t.split(',').map(str::trim).collect();
+    if fields.len() != ncol {
+        return Err(line_err(
+            line,
+            RecordProblem::ColumnCount {
+                expected: ncol,
+                found: fields.len(),
+            },
+        ));
+    }
+    let mut row = [0.0; 7];
+    for (k, text) in fields.iter().enumerate() {
+        let column = COLUMNS[k];
+        let v: f64 = text.parse().map_err(|_| {
+            line_err(
+                line,
+                RecordProblem::NotANumber {
+                    column,
+                    text: (*text).to_owned(),
+                },
+            )
+        })?;
+        if !v.is_finite() {
+            return Err(line_err(
+                line,
+                RecordProblem::NotFinite {
+                    column,
+                    text: (*text).to_owned(),
+                },
+            ));
+        }
+        row[k] = v;
+    }
+    Ok(row)
 }
