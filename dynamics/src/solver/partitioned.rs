@@ -798,13 +798,16 @@ impl TrainSide {
                 }
                 let a = s.vdd.as_mut_slice();
                 a.copy_from_slice(&base.b);
-                for (g, r) in factor
-                    .gain
-                    .chunks_exact(6 * n)
-                    .zip(&self.rails[first..first + nw])
+                // Σ_l G_l (u_l, u̇_l) as one sum over the columns of up to eight wheelsets
+                // at a time (column after column, as wheelset after wheelset would add them)
+                let mut uv = [0.0; 6 * 8];
+                for (g, rails) in (factor.gain[..6 * n * nw].chunks(6 * n * 8))
+                    .zip(self.rails[first..first + nw].chunks(8))
                 {
-                    let uv = [r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z];
-                    crate::simd::axpy_columns(a, &uv, g);
+                    for (c, r) in uv.chunks_exact_mut(6).zip(rails) {
+                        c.copy_from_slice(&[r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z]);
+                    }
+                    crate::simd::axpy_columns(a, &uv[..6 * rails.len()], g);
                 }
                 if self.train.wind.is_some() {
                     // the wind on the body beyond its static loads, F₁
