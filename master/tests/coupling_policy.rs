@@ -258,7 +258,7 @@ fn coupling_config_defaults_and_keys() {
         (c.relaxation, c.rtol, c.atol, c.max_iterations),
         (0.5, 1e-10, 1e-12, 50)
     );
-    assert_eq!(c.predictor, Predictor::Linear);
+    assert_eq!(c.predictor, Predictor::Quadratic);
     assert_eq!(c.on_non_convergence, NonConvergenceAction::Stop);
     assert_eq!(c.policy(H), OnNonConvergence::Stop);
 
@@ -311,7 +311,7 @@ fn coupling_config_errors_name_key_and_value() {
             "scheme = \"newton\" is not one of \"implicit\", \"gauss-seidel\", \"jacobi\"",
         ),
         ("acceleration = \"anderson\"", "acceleration = \"anderson\""),
-        ("predictor = \"quadratic\"", "predictor = \"quadratic\""),
+        ("predictor = \"cubic\"", "predictor = \"cubic\""),
         (
             "on_non_convergence = \"ignore\"",
             "on_non_convergence = \"ignore\"",

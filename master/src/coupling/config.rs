@@ -121,6 +121,7 @@ keywords!(AccelerationKind, "acceleration", {
 });
 keywords!(Predictor, "predictor", {
     Linear => "linear",
+    Quadratic => "quadratic",
     Constant => "constant",
 });
 keywords!(NonConvergenceAction, "on_non_convergence", {
@@ -147,7 +148,8 @@ pub struct CouplingConfig {
     pub atol: f64,
     /// Maximum sweeps per step (≥ 1). Default 50.
     pub max_iterations: usize,
-    /// First guess of each step: `"linear"` extrapolation or `"constant"`. Default `"linear"`.
+    /// First guess of each step: `"quadratic"` or `"linear"` extrapolation of the accepted
+    /// values, or `"constant"`. Default `"quadratic"`.
     pub predictor: Predictor,
     /// IQN-ILS: previous converged steps whose columns are reused. Default 0.
     pub reuse_steps: usize,
@@ -167,7 +169,7 @@ impl Default for CouplingConfig {
             rtol: 1e-10,
             atol: 1e-12,
             max_iterations: 50,
-            predictor: Predictor::Linear,
+            predictor: Predictor::Quadratic,
             reuse_steps: 0,
             on_non_convergence: NonConvergenceAction::Stop,
             min_step: None,

@@ -56,11 +56,15 @@
 //! # Predictor
 //!
 //! The first guess of step `tₙ → tₙ₊₁` extrapolates the accepted end-of-step values `x̃`:
-//! [`Predictor::Linear`] (default) `x₀ = xₙ + (tₙ₊₁ − tₙ)/(tₙ − tₙ₋₁) · (xₙ − xₙ₋₁)`, or
-//! [`Predictor::Constant`] `x₀ = xₙ`. On smooth responses the linear predictor starts closer
-//! to the fixed point, which saves iterations of the linearly converging accelerations
-//! (constant, Aitken); quasi-Newton counts are governed mostly by the interface size. The
-//! converged result does not depend on the predictor beyond the tolerance.
+//! [`Predictor::Quadratic`] (default) the parabola through the last three,
+//! `x₀ = xₙ₋₂ − 3 xₙ₋₁ + 3 xₙ` when those steps and this one have the same size (Lagrange's
+//! weights at `tₙ₊₁` otherwise); [`Predictor::Linear`] `x₀ = xₙ + (tₙ₊₁ − tₙ)/(tₙ − tₙ₋₁) · (xₙ − xₙ₋₁)`; or
+//! [`Predictor::Constant`] `x₀ = xₙ`. The closer the first guess, the smaller the first
+//! residual and the fewer the sweeps: on the train–bridge systems the quadratic predictor
+//! needs 2.46 sweeps per step on the bench case against 2.55 for the linear one, 2.35
+//! against 2.39 on the default case (IQN-ILS); higher orders amplify the wheel forces'
+//! high-frequency content (see PERFORMANCE.md). The converged result does not depend on the
+//! predictor beyond the tolerance.
 //!
 //! # Rollback
 //!
@@ -88,8 +92,11 @@ pub enum Predictor {
     Constant,
     /// Linear extrapolation from the last two accepted steps (the value at the start of the
     /// step when there is only one).
-    #[default]
     Linear,
+    /// Quadratic extrapolation from the last three accepted steps (linear when there are
+    /// two, the value at the start of the step when there is one).
+    #[default]
+    Quadratic,
 }
 
 /// Implicit serial coupling with an acceleration of the interface iteration.
@@ -102,7 +109,7 @@ pub struct Implicit {
     exchange: Option<Exchange>,
     /// The structure of the step Jacobians learnt so far (for accelerations that use them).
     jacobian: StepJacobian,
-    /// Accepted end-of-step interface values `(time, x̃)`, oldest first, at most two.
+    /// Accepted end-of-step interface values `(time, x̃)`, oldest first, at most three.
     history: Vec<(f64, Vec<f64>)>,
     /// Vectors of history entries dropped, reused for new ones (no allocation per step).
     spare: Vec<Vec<f64>>,
@@ -212,17 +219,42 @@ impl Implicit {
             };
             self.history.push((t, start));
         }
-        while self.history.len() > 2 {
+        let keep = if self.predictor == Predictor::Quadratic {
+            3
+        } else {
+            2
+        };
+        while self.history.len() > keep {
             let (_, v) = self.history.remove(0);
             self.spare.push(v);
         }
         let (t1, x1) = self.history.last().expect("pushed above");
         self.x.clone_from(x1);
-        if let (Predictor::Linear, [(t0, x0), _]) = (self.predictor, self.history.as_slice()) {
-            let ratio = h / (t1 - t0);
-            for ((x, &a), &b) in self.x.iter_mut().zip(x0).zip(x1) {
-                *x = b + ratio * (b - a);
+        match (self.predictor, self.history.as_slice()) {
+            (Predictor::Quadratic, [(ta, xa), (tb, xb), _]) => {
+                // Lagrange's weights at t + h of the nodes ta, tb, t1; (1, −3, 3) exactly for
+                // steps of one size
+                let (ta, tb, t1, t2) = (*ta, *tb, *t1, t + h);
+                let w = if same_time(t1 - tb, h, h) && same_time(tb - ta, h, h) {
+                    [1.0, -3.0, 3.0]
+                } else {
+                    [
+                        (t2 - tb) * (t2 - t1) / ((ta - tb) * (ta - t1)),
+                        (t2 - ta) * (t2 - t1) / ((tb - ta) * (tb - t1)),
+                        (t2 - ta) * (t2 - tb) / ((t1 - ta) * (t1 - tb)),
+                    ]
+                };
+                for ((x, &a), (&b, &c)) in self.x.iter_mut().zip(xa).zip(xb.iter().zip(x1)) {
+                    *x = w[0] * a + w[1] * b + w[2] * c;
+                }
             }
+            (Predictor::Linear | Predictor::Quadratic, [.., (t0, x0), _]) => {
+                let ratio = h / (t1 - t0);
+                for ((x, &a), &b) in self.x.iter_mut().zip(x0).zip(x1) {
+                    *x = b + ratio * (b - a);
+                }
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -345,5 +377,118 @@ impl CouplingScheme for Implicit {
         kept.clone_from(&self.x_tilde);
         self.history.push((t + h, kept));
         Ok(report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coupling::acceleration::ConstantRelaxation;
+    use crate::coupling::system::{Connection, Participant};
+
+    /// Participant 1 outputs `x(t) = 0.3 + 2 t − 7 t²` (vr 0) at the end of each step, which
+    /// participant 0 takes as its input (vr 10): a feedback connection, so `x` is the
+    /// unknown, and the first sweep of a step converges when the predictor hits `x(t + h)`.
+    struct Clock {
+        t: f64,
+        saved: f64,
+    }
+
+    /// Participant 0: takes the input and has no outputs.
+    struct Sink;
+
+    fn x_of(t: f64) -> f64 {
+        0.3 + 2.0 * t - 7.0 * t * t
+    }
+
+    impl Participant for Clock {
+        fn name(&self) -> &str {
+            "clock"
+        }
+        fn set_real(&mut self, _: &[u32], _: &[f64]) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn get_real(&mut self, _: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
+            values.fill(x_of(self.t));
+            Ok(())
+        }
+        fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError> {
+            self.t = t + h;
+            Ok(StepStatus::Ok)
+        }
+        fn save_state(&mut self) -> Result<(), CouplingError> {
+            self.saved = self.t;
+            Ok(())
+        }
+        fn restore_state(&mut self) -> Result<(), CouplingError> {
+            self.t = self.saved;
+            Ok(())
+        }
+    }
+
+    impl Participant for Sink {
+        fn name(&self) -> &str {
+            "sink"
+        }
+        fn set_real(&mut self, _: &[u32], _: &[f64]) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn get_real(&mut self, _: &[u32], _: &mut [f64]) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn do_step(&mut self, _: f64, _: f64) -> Result<StepStatus, CouplingError> {
+            Ok(StepStatus::Ok)
+        }
+        fn save_state(&mut self) -> Result<(), CouplingError> {
+            Ok(())
+        }
+        fn restore_state(&mut self) -> Result<(), CouplingError> {
+            Ok(())
+        }
+    }
+
+    /// Sweeps of each step of `steps` (sizes) from t = 0 with `predictor`.
+    fn sweeps(predictor: Predictor, steps: &[f64]) -> Vec<usize> {
+        let mut sys = System::new(
+            vec![Box::new(Sink), Box::new(Clock { t: 0.0, saved: 0.0 })],
+            vec![Connection {
+                from: 1,
+                from_vr: 0,
+                to: 0,
+                to_vr: 10,
+            }],
+        );
+        let mut scheme = Implicit::new(
+            Box::new(ConstantRelaxation::new(1.0)),
+            WeightedRms::new(1e-10, 1e-12),
+            10,
+        )
+        .with_predictor(predictor);
+        scheme.initialize(&mut sys).unwrap();
+        let mut t = 0.0;
+        steps
+            .iter()
+            .map(|&h| {
+                let r = scheme.step(&mut sys, t, h).unwrap();
+                assert!(r.converged);
+                t += h;
+                r.iterations
+            })
+            .collect()
+    }
+
+    /// The quadratic predictor is exact for a quadratic in time, with steps of one size and
+    /// after the size changes (Lagrange's weights); the linear one is not.
+    #[test]
+    fn the_quadratic_predictor_extrapolates_a_parabola_exactly() {
+        let mut steps = vec![0.1; 6];
+        steps.extend([0.05; 4]);
+        steps.extend([0.2, 0.07, 0.13]);
+        let q = sweeps(Predictor::Quadratic, &steps);
+        // the start value alone, then two values (linear), then three
+        assert_eq!(q[..2], [2, 2], "{q:?}");
+        assert!(q[2..].iter().all(|&k| k == 1), "{q:?}");
+        let l = sweeps(Predictor::Linear, &steps);
+        assert!(l[1..].iter().all(|&k| k == 2), "{l:?}");
     }
 }
