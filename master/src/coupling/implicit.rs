@@ -57,7 +57,7 @@
 //!
 //! The first guess of step `tₙ → tₙ₊₁` extrapolates the accepted end-of-step values `x̃`:
 //! [`Predictor::Quadratic`] (default) the parabola through the last three,
-//! `x₀ = xₙ₋₂ − 3 xₙ₋₁ + 3 xₙ` when those steps and this one have the same size (Lagrange's
+//! `x₀ = xₙ₋₂ + 3 (xₙ − xₙ₋₁)` when those steps and this one have the same size (Lagrange's
 //! weights at `tₙ₊₁` otherwise); [`Predictor::Linear`] `x₀ = xₙ + (tₙ₊₁ − tₙ)/(tₙ − tₙ₋₁) · (xₙ − xₙ₋₁)`; or
 //! [`Predictor::Constant`] `x₀ = xₙ`. The closer the first guess, the smaller the first
 //! residual and the fewer the sweeps: on the train–bridge systems the quadratic predictor
@@ -243,20 +243,27 @@ impl Implicit {
         self.x.clone_from(x1);
         match (self.predictor, self.history.as_slice()) {
             (Predictor::Quadratic, [(ta, xa), (tb, xb), _]) => {
-                // Lagrange's weights at t + h of the nodes ta, tb, t1; (1, −3, 3) exactly for
-                // steps of one size
                 let (ta, tb, t1, t2) = (*ta, *tb, *t1, t + h);
-                let w = if same_time(t1 - tb, h, h) && same_time(tb - ta, h, h) {
-                    [1.0, -3.0, 3.0]
+                let values = self.x.iter_mut().zip(xa).zip(xb.iter().zip(x1));
+                if same_time(t1 - tb, h, h) && same_time(tb - ta, h, h) {
+                    // steps of one size: a + 3 (c − b), whose difference c − b of close
+                    // values is exact; a value moving at a constant rate (a wheelset's
+                    // position) comes out to its last bit more often than from the products
+                    // a − 3 b + 3 c (bench case: 38 % of the steps against 12 %), and the
+                    // bridge FMU then reuses its shapes under the wheelsets
+                    for ((x, &a), (&b, &c)) in values {
+                        *x = a + 3.0 * (c - b);
+                    }
                 } else {
-                    [
+                    // Lagrange's weights at t + h of the nodes ta, tb, t1
+                    let w = [
                         (t2 - tb) * (t2 - t1) / ((ta - tb) * (ta - t1)),
                         (t2 - ta) * (t2 - t1) / ((tb - ta) * (tb - t1)),
                         (t2 - ta) * (t2 - tb) / ((t1 - ta) * (t1 - tb)),
-                    ]
-                };
-                for ((x, &a), (&b, &c)) in self.x.iter_mut().zip(xa).zip(xb.iter().zip(x1)) {
-                    *x = w[0] * a + w[1] * b + w[2] * c;
+                    ];
+                    for ((x, &a), (&b, &c)) in values {
+                        *x = w[0] * a + w[1] * b + w[2] * c;
+                    }
                 }
             }
             (Predictor::Linear | Predictor::Quadratic, [.., (t0, x0), _]) => {
