@@ -417,117 +417,11 @@ mod tests {
     use crate::coupling::acceleration::ConstantRelaxation;
     use crate::coupling::system::{Connection, Participant};
 
-    /// Participant 1 outputs `x(t) = 0.3 + 2 t − 7 t²` (vr 0) at the end of each step, which
-    /// participant 0 takes as its input (vr 10): a feedback connection, so `x` is the
-    /// unknown, and the first sweep of a step converges when the predictor hits `x(t + h)`.
-    struct Clock {
-        t: f64,
-        saved: f64,
-    }
-
-    /// Participant 0: takes the input and has no outputs.
-    struct Sink;
-
-    fn x_of(t: f64) -> f64 {
-        0.3 + 2.0 * t - 7.0 * t * t
-    }
-
-    impl Participant for Clock {
-        fn name(&self) -> &str {
-            "clock"
-        }
-        fn set_real(&mut self, _: &[u32], _: &[f64]) -> Result<(), CouplingError> {
-            Ok(())
-        }
-        fn get_real(&mut self, _: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
-            values.fill(x_of(self.t));
-            Ok(())
-        }
-        fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError> {
-            self.t = t + h;
-            Ok(StepStatus::Ok)
-        }
-        fn save_state(&mut self) -> Result<(), CouplingError> {
-            self.saved = self.t;
-            Ok(())
-        }
-        fn restore_state(&mut self) -> Result<(), CouplingError> {
-            self.t = self.saved;
-            Ok(())
-        }
-    }
-
-    impl Participant for Sink {
-        fn name(&self) -> &str {
-            "sink"
-        }
-        fn set_real(&mut self, _: &[u32], _: &[f64]) -> Result<(), CouplingError> {
-            Ok(())
-        }
-        fn get_real(&mut self, _: &[u32], _: &mut [f64]) -> Result<(), CouplingError> {
-            Ok(())
-        }
-        fn do_step(&mut self, _: f64, _: f64) -> Result<StepStatus, CouplingError> {
-            Ok(StepStatus::Ok)
-        }
-        fn save_state(&mut self) -> Result<(), CouplingError> {
-            Ok(())
-        }
-        fn restore_state(&mut self) -> Result<(), CouplingError> {
-            Ok(())
-        }
-    }
-
-    /// Sweeps of each step of `steps` (sizes) from t = 0 with `predictor`.
-    fn sweeps(predictor: Predictor, steps: &[f64]) -> Vec<usize> {
-        let mut sys = System::new(
-            vec![Box::new(Sink), Box::new(Clock { t: 0.0, saved: 0.0 })],
-            vec![Connection {
-                from: 1,
-                from_vr: 0,
-                to: 0,
-                to_vr: 10,
-            }],
-        );
-        let mut scheme = Implicit::new(
-            Box::new(ConstantRelaxation::new(1.0)),
-            WeightedRms::new(1e-10, 1e-12),
-            10,
-        )
-        .with_predictor(predictor);
-        scheme.initialize(&mut sys).unwrap();
-        let mut t = 0.0;
-        steps
-            .iter()
-            .map(|&h| {
-                let r = scheme.step(&mut sys, t, h).unwrap();
-                assert!(r.converged);
-                t += h;
-                r.iterations
-            })
-            .collect()
-    }
-
-    /// The quadratic predictor is exact for a quadratic in time, with steps of one size and
-    /// after the size changes (Lagrange's weights); the linear one is not.
-    #[test]
-    fn the_quadratic_predictor_extrapolates_a_parabola_exactly() {
-        let mut steps = vec![0.1; 6];
-        steps.extend([0.05; 4]);
-        steps.extend([0.2, 0.07, 0.13]);
-        let q = sweeps(Predictor::Quadratic, &steps);
-        // the start value alone, then two values (linear), then three
-        assert_eq!(q[..2], [2, 2], "{q:?}");
-        assert!(q[2..].iter().all(|&k| k == 1), "{q:?}");
-        let l = sweeps(Predictor::Linear, &steps);
-        assert!(l[1..].iter().all(|&k| k == 2), "{l:?}");
-    }
-
-    /// Bits of the wheel position the deck was stepped with, in order.
+    /// Bits of the position input the deck was stepped with, in order.
     type Seen = std::rc::Rc<std::cell::RefCell<Vec<u64>>>;
 
-    /// Participant 0: a static deck, `u = f (1 + 0.1 sin p) / 1e8`, under the wheel force `f`
-    /// (vr 11) at the wheel position `p` (vr 10); records the bits of `p` it is stepped with.
+    /// Participant 0: a static deck, `u = f (1 + 0.1 sin p) / 1e8` (vr 0), under the force
+    /// `f` (vr 11) at the position `p` (vr 10); records the bits of `p` it is stepped with.
     struct Deck {
         p: f64,
         f: f64,
@@ -535,12 +429,13 @@ mod tests {
         seen: Seen,
     }
 
-    /// Participant 1: a wheel at 44.4 m/s, `p = 3 + 44.4 t` (vr 0), pressing with
-    /// `f = 1e5 − 4e7 u` (vr 1) on the deck's displacement `u` (vr 10).
-    struct Wheel {
+    /// Participant 1: its outputs at the end of each step are `out(t, u, vr)`, of the time
+    /// and of its input `u` (vr 10).
+    struct Source {
         t: f64,
         saved: f64,
         u: f64,
+        out: fn(f64, f64, u32) -> f64,
     }
 
     impl Participant for Deck {
@@ -574,9 +469,9 @@ mod tests {
         }
     }
 
-    impl Participant for Wheel {
+    impl Participant for Source {
         fn name(&self) -> &str {
-            "wheel"
+            "source"
         }
         fn set_real(&mut self, _: &[u32], values: &[f64]) -> Result<(), CouplingError> {
             self.u = values[0];
@@ -584,11 +479,7 @@ mod tests {
         }
         fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
             for (&vr, v) in vrs.iter().zip(values) {
-                *v = if vr == 0 {
-                    3.0 + 44.4 * self.t
-                } else {
-                    1e5 - 4e7 * self.u
-                };
+                *v = (self.out)(self.t, self.u, vr);
             }
             Ok(())
         }
@@ -606,64 +497,115 @@ mod tests {
         }
     }
 
-    /// Under-relaxed, the wheel's position would stay some ulps off the wheel's own after the
-    /// first sweep's extrapolation; once the predictor has its history, the last sweep of
-    /// every step gives the deck the wheel's position bit for bit, with each predictor.
-    #[test]
-    fn converged_inputs_are_the_outputs_bits() {
-        for predictor in [Predictor::Quadratic, Predictor::Linear] {
-            let seen: Seen = Default::default();
-            let deck = Deck {
-                p: 3.0,
-                f: 1e5,
-                u: 0.0,
-                seen: seen.clone(),
-            };
-            let wheel = Wheel {
-                t: 0.0,
-                saved: 0.0,
-                u: 0.0,
-            };
-            let connect = |from, from_vr, to, to_vr| Connection {
+    /// The deck and a source with `out`, connected by `(from, from_vr, to, to_vr)`; the
+    /// deck's positions are recorded in `seen`.
+    fn system(
+        out: fn(f64, f64, u32) -> f64,
+        links: &[(usize, u32, usize, u32)],
+        seen: &Seen,
+    ) -> System {
+        let deck = Deck {
+            p: 0.0,
+            f: 1e5,
+            u: 0.0,
+            seen: seen.clone(),
+        };
+        let source = Source {
+            t: 0.0,
+            saved: 0.0,
+            u: 0.0,
+            out,
+        };
+        let connections = (links.iter())
+            .map(|&(from, from_vr, to, to_vr)| Connection {
                 from,
                 from_vr,
                 to,
                 to_vr,
-            };
-            let mut sys = System::new(
-                vec![Box::new(deck), Box::new(wheel)],
-                vec![
-                    connect(0, 0, 1, 10),
-                    connect(1, 0, 0, 10),
-                    connect(1, 1, 0, 11),
-                ],
-            );
-            let mut scheme = Implicit::new(
-                Box::new(ConstantRelaxation::new(0.5)),
-                WeightedRms::new(1e-10, 1e-12),
-                60,
-            )
-            .with_predictor(predictor);
-            scheme.initialize(&mut sys).unwrap();
-            let h = 0.001;
-            let mut off_first = 0;
-            for n in 0..500 {
-                let t = n as f64 * h;
-                seen.borrow_mut().clear();
-                let r = scheme.step(&mut sys, t, h).unwrap();
-                assert!(r.converged, "{predictor:?}, step {n}: {r:?}");
-                if n < 3 {
-                    continue; // from a start value, converged to the tolerance only
-                }
-                let exact = 3.0 + 44.4 * (t + h);
-                let seen = seen.borrow();
-                assert_eq!(
-                    f64::from_bits(*seen.last().unwrap()),
-                    exact,
-                    "{predictor:?}, step {n}"
-                );
-                off_first += usize::from(f64::from_bits(seen[0]) != exact);
+            })
+            .collect();
+        System::new(vec![Box::new(deck), Box::new(source)], connections)
+    }
+
+    /// Runs `steps` (sizes) from t = 0 with constant relaxation `omega` and `predictor`,
+    /// calling `each(n, t + h)` after step `n`; the sweeps of each step.
+    fn run(
+        sys: &mut System,
+        (omega, predictor): (f64, Predictor),
+        steps: &[f64],
+        mut each: impl FnMut(usize, f64),
+    ) -> Vec<usize> {
+        let mut scheme = Implicit::new(
+            Box::new(ConstantRelaxation::new(omega)),
+            WeightedRms::new(1e-10, 1e-12),
+            60,
+        )
+        .with_predictor(predictor);
+        scheme.initialize(sys).unwrap();
+        let mut t = 0.0;
+        (steps.iter().enumerate())
+            .map(|(n, &h)| {
+                let r = scheme.step(sys, t, h).unwrap();
+                assert!(r.converged, "{predictor:?} at t = {t}: {r:?}");
+                t += h;
+                each(n, t);
+                r.iterations
+            })
+            .collect()
+    }
+
+    /// The source's position `x(t) = 0.3 + 2 t − 7 t²`, which the deck takes (a feedback
+    /// connection, so it is the unknown): the first sweep of a step converges when the
+    /// predictor hits `x(t + h)`. The quadratic predictor is exact for it, with steps of one
+    /// size and after the size changes (Lagrange's weights); the linear one is not.
+    #[test]
+    fn the_quadratic_predictor_extrapolates_a_parabola_exactly() {
+        let parabola = |t: f64, _: f64, _: u32| 0.3 + 2.0 * t - 7.0 * t * t;
+        let mut steps = vec![0.1; 6];
+        steps.extend([0.05; 4]);
+        steps.extend([0.2, 0.07, 0.13]);
+        let seen = Seen::default();
+        let sweeps = |predictor| {
+            let mut sys = system(parabola, &[(1, 0, 0, 10)], &seen);
+            run(&mut sys, (1.0, predictor), &steps, |_, _| {})
+        };
+        let q = sweeps(Predictor::Quadratic);
+        // the start value alone, then two values (linear), then three
+        assert_eq!(q[..2], [2, 2], "{q:?}");
+        assert!(q[2..].iter().all(|&k| k == 1), "{q:?}");
+        let l = sweeps(Predictor::Linear);
+        assert!(l[1..].iter().all(|&k| k == 2), "{l:?}");
+    }
+
+    /// A wheel at 44.4 m/s, `p = 3 + 44.4 t` (vr 0), presses with `f = 1e5 − 4e7 u` (vr 1)
+    /// on the deck's displacement `u`. Under-relaxed, the position would stay some ulps off
+    /// the wheel's own after the first sweep's extrapolation; once the predictor has its
+    /// history, the last sweep of every step gives the deck the wheel's position bit for
+    /// bit, with each predictor.
+    #[test]
+    fn converged_inputs_are_the_outputs_bits() {
+        let wheel = |t: f64, u: f64, vr: u32| {
+            if vr == 0 {
+                3.0 + 44.4 * t
+            } else {
+                1e5 - 4e7 * u
             }
+        };
+        for predictor in [Predictor::Quadratic, Predictor::Linear] {
+            let seen = Seen::default();
+            let mut sys = system(wheel, &[(0, 0, 1, 10), (1, 0, 0, 10), (1, 1, 0, 11)], &seen);
+            let mut off_first = 0;
+            run(&mut sys, (0.5, predictor), &[0.001; 500], |n, t| {
+                let mut seen = seen.borrow_mut();
+                // from a start value, converged to the tolerance only
+                if n >= 3 {
+                    let exact = 3.0 + 44.4 * t;
+                    let last = f64::from_bits(*seen.last().unwrap());
+                    assert_eq!(last, exact, "{predictor:?}, step {n}");
+                    off_first += usize::from(f64::from_bits(seen[0]) != exact);
+                }
+                seen.clear();
+            });
             // the check above could fail: the first sweeps were off in many steps
             assert!(off_first > 100, "{predictor:?}: {off_first}");
         }
