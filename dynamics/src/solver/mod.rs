@@ -142,11 +142,10 @@ pub(crate) fn add_hunting(rail: &[Vector3<f64>; 3], h: &[f64; 3]) -> [Vector3<f6
     r
 }
 
-/// What the force of one wheelset on the rail (eq. 6) needs, in one place: its vehicle, its
-/// own blocks and the non-zero entries of `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each).
+/// What the force of one wheelset on the rail (eq. 6) needs, in one place: its own blocks
+/// and the non-zero entries of `K_wv = K_vwᵀ`, `C_wv = C_vwᵀ` (3 rows each).
 #[derive(Debug, Clone)]
 pub(crate) struct WheelForce {
-    pub(crate) vehicle: usize,
     p0: Vector3<f64>,
     m_w: Matrix3<f64>,
     k_ww: Matrix3<f64>,
@@ -158,7 +157,28 @@ pub(crate) struct WheelForce {
 }
 
 impl WheelForce {
-    pub(crate) fn of(vehicle: usize, c: &crate::vehicle::WheelsetCoupling) -> Self {
+    /// Per wheelset of `train` (`wheelsets`, [`Train::wheelsets`]), what its force needs;
+    /// the wheelsets at the same place of vehicles of one model (the same `Arc`, as the
+    /// coaches of one train) share one copy, so a step reads one copy of it.
+    pub(crate) fn of_train(
+        train: &crate::train::Train,
+        wheelsets: &[crate::train::WheelsetRef],
+    ) -> Vec<std::sync::Arc<WheelForce>> {
+        let model = |ws: &crate::train::WheelsetRef| &train.vehicles[ws.vehicle].model;
+        let mut out: Vec<std::sync::Arc<WheelForce>> = Vec::with_capacity(wheelsets.len());
+        for (w, ws) in wheelsets.iter().enumerate() {
+            let same = (wheelsets[..w].iter())
+                .position(|o| o.local == ws.local && std::sync::Arc::ptr_eq(model(o), model(ws)));
+            let f = match same {
+                Some(k) => out[k].clone(),
+                None => std::sync::Arc::new(WheelForce::of(&model(ws).wheelsets[ws.local])),
+            };
+            out.push(f);
+        }
+        out
+    }
+
+    pub(crate) fn of(c: &crate::vehicle::WheelsetCoupling) -> Self {
         let mut entries = Vec::new();
         for row in 0..3 {
             for dof in 0..c.k_vw.nrows() {
@@ -170,7 +190,6 @@ impl WheelForce {
         }
         let zero = |m: &Matrix3<f64>| m.iter().all(|&v| v == 0.0);
         WheelForce {
-            vehicle,
             p0: c.p0,
             m_w: c.m_w,
             k_ww: c.k_ww,
@@ -214,6 +233,62 @@ mod tests {
     use crate::vehicle::WheelsetCoupling;
     use nalgebra::DMatrix;
 
+    /// The wheelsets at the same place of vehicles of one model (one `Arc`) share their
+    /// force data; a vehicle of an equal model built apart keeps its own (its own `Arc`); and
+    /// the shared data gives each wheelset the force its own would.
+    #[test]
+    fn wheelsets_of_one_model_share_their_force_data() {
+        use crate::train::{Train, TrainVehicle};
+        use std::sync::Arc;
+        let build = || {
+            Arc::new(
+                crate::vehicle::coach::CoachParams::xia2000()
+                    .build()
+                    .unwrap(),
+            )
+        };
+        let (coach, apart) = (build(), build());
+        let vehicle = |model: &Arc<LinearVehicle>, k: f64| TrainVehicle {
+            model: model.clone(),
+            offset_m: 25.0 * k,
+        };
+        let train = Train {
+            vehicles: vec![
+                vehicle(&coach, 0.0),
+                vehicle(&coach, 1.0),
+                vehicle(&apart, 2.0),
+            ],
+            speed_m_s: 20.0,
+            x0_m: 0.0,
+            hunting: tbi_track::WheelHunting::new(&Default::default(), 12).unwrap(),
+            wind: None,
+        };
+        let wheelsets = train.wheelsets();
+        let forces = WheelForce::of_train(&train, &wheelsets);
+        assert_eq!(forces.len(), 12);
+        for (w, ws) in wheelsets.iter().enumerate() {
+            let first = [ws.local, ws.local, 8 + ws.local][ws.vehicle];
+            assert!(Arc::ptr_eq(&forces[w], &forces[first]), "wheelset {w}");
+            if first != w {
+                assert!(ws.vehicle == 1, "wheelset {w}");
+            }
+            let own = WheelForce::of(&train.vehicles[ws.vehicle].model.wheelsets[ws.local]);
+            let n = train.vehicles[ws.vehicle].model.ndof();
+            let state = VehicleState {
+                v: DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() * 1e-3),
+                vd: DVector::from_fn(n, |i, _| (i as f64 * 0.71).cos() * 1e-2),
+                vdd: DVector::zeros(n),
+            };
+            let rail = [
+                Vector3::new(-1e-3, 2e-4, -3e-3),
+                Vector3::new(4e-2, -5e-3, 6e-2),
+                Vector3::new(-0.7, 0.8, -0.9),
+            ];
+            assert_eq!(forces[w].force(&state, &rail), own.force(&state, &rail));
+        }
+        assert!(!Arc::ptr_eq(&forces[0], &forces[8]));
+    }
+
     /// A moving force (no mass, stiffness or damping) gives `p0` bit for bit as the full
     /// formula does for a finite motion of either sign; a wheelset with mass does not.
     #[test]
@@ -243,12 +318,12 @@ mod tests {
             c.p0 - c.m_w * udd - c.k_ww * u - c.c_ww * ud
         };
         let moving = coupling(0.0);
-        let f = WheelForce::of(0, &moving).force(&state, &rail);
-        assert!(WheelForce::of(0, &moving).constant);
+        let f = WheelForce::of(&moving).force(&state, &rail);
+        assert!(WheelForce::of(&moving).constant);
         assert_eq!(f.map(f64::to_bits), full(&moving).map(f64::to_bits));
         let massive = coupling(1200.0);
-        assert!(!WheelForce::of(0, &massive).constant);
-        let f = WheelForce::of(0, &massive).force(&state, &rail);
+        assert!(!WheelForce::of(&massive).constant);
+        let f = WheelForce::of(&massive).force(&state, &rail);
         assert_eq!(f.map(f64::to_bits), full(&massive).map(f64::to_bits));
         assert_ne!(f, massive.p0);
     }

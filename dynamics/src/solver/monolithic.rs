@@ -84,12 +84,13 @@ pub struct Monolithic {
     zeta: Vec<f64>,
     psi: Vec<[f64; 3]>,
     presc: Vec<[Vector3<f64>; 3]>,
-    cache: Vec<VehicleCache>,
+    /// Per vehicle, its constant blocks (shared by the vehicles of one model).
+    cache: Vec<Arc<VehicleCache>>,
     /// The deck's buffeting forces, when the bridge has a turbulent wind.
     buffeting: Option<Arc<crate::bridge::buffeting::DeckBuffeting>>,
     first_ws: Vec<usize>,
     /// Per wheelset, what its force on the rail needs (for the outputs).
-    wheel_forces: Vec<WheelForce>,
+    wheel_forces: Vec<Arc<WheelForce>>,
     /// Per wheelset: a moving force (its vehicle has no DOFs, its force is constant), which
     /// off the deck of an ideal track changes nothing from step to step.
     inert: Vec<bool>,
@@ -116,11 +117,17 @@ impl Monolithic {
             first_ws.push(k);
             k += tv.model.wheelsets.len();
         }
-        let cache = train
-            .vehicles
-            .iter()
-            .map(|tv| vehicle_cache(&tv.model, &nm))
-            .collect();
+        // Vehicles of one model (the same `Arc`, as the coaches of one train) share their
+        // constant blocks, so a step reads one copy of them.
+        let mut cache: Vec<Arc<VehicleCache>> = Vec::with_capacity(train.vehicles.len());
+        for (i, tv) in train.vehicles.iter().enumerate() {
+            let same = (train.vehicles[..i].iter()).position(|p| Arc::ptr_eq(&p.model, &tv.model));
+            let c = match same {
+                Some(j) => cache[j].clone(),
+                None => Arc::new(vehicle_cache(&tv.model, &nm)),
+            };
+            cache.push(c);
+        }
         let q0 = bridge.steady_response();
         let buffeting = bridge.buffeting.as_ref().map(|spec| {
             Arc::new(
@@ -128,17 +135,11 @@ impl Monolithic {
                     .expect("the buffeting spec is checked when the model is built"),
             )
         });
-        let wheel_forces = wheelsets
-            .iter()
-            .map(|ws| {
-                let c = &train.vehicles[ws.vehicle].model.wheelsets[ws.local];
-                WheelForce::of(ws.vehicle, c)
-            })
-            .collect();
+        let wheel_forces = WheelForce::of_train(&train, &wheelsets);
         let inert = wheelsets
             .iter()
             .zip(&wheel_forces)
-            .map(|(ws, f): (&WheelsetRef, &WheelForce)| {
+            .map(|(ws, f): (&WheelsetRef, &Arc<WheelForce>)| {
                 train.vehicles[ws.vehicle].model.ndof() == 0 && f.constant
             })
             .collect::<Vec<bool>>();
@@ -405,8 +406,8 @@ impl Monolithic {
                 p
             };
             self.rail[w] = [u, ud, udd];
-            let c = &self.wheel_forces[w];
-            self.forces[w] = c.force(&self.vehicles[c.vehicle], &self.rail[w]);
+            let state = &self.vehicles[self.wheelsets[w].vehicle];
+            self.forces[w] = self.wheel_forces[w].force(state, &self.rail[w]);
         }
     }
 

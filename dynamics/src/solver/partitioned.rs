@@ -619,12 +619,17 @@ pub struct TrainSide {
     /// wind ([`crate::vehicle::aero::TrainWind`]).
     pub body_wind: Vec<f64>,
     /// Newmark factors per vehicle (derived from the model and h only; shared by clones,
-    /// copied on the rare write).
+    /// copied on the rare write). Only the entries `model_of` names are used.
     factors: Arc<Vec<Factor>>,
     /// The vehicles' matrices in sparse rows (derived from the model; shared by clones).
+    /// Only the entries `model_of` names are used.
     sparse: Arc<Vec<VehicleSparse>>,
-    /// Per wheelset, what its force needs (derived from the model; shared by clones).
-    forces: Arc<Vec<WheelForce>>,
+    /// Per vehicle, the first vehicle with the same model (the same `Arc`, as the coaches of
+    /// one train): its factor and sparse rows serve both, so a step reads one copy of them.
+    model_of: Arc<Vec<usize>>,
+    /// Per wheelset, what its force needs (derived from the model; shared by clones, and by
+    /// the wheelsets at the same place of vehicles of one model).
+    forces: Arc<Vec<Arc<WheelForce>>>,
     /// The rail-independent part of the last step of each vehicle (derived data keyed by
     /// the state it was made from: kept through a rollback, which restores that state).
     bases: Vec<StepBase>,
@@ -669,6 +674,7 @@ impl Clone for TrainSide {
             body_wind: self.body_wind.clone(),
             factors: self.factors.clone(),
             sparse: self.sparse.clone(),
+            model_of: self.model_of.clone(),
             forces: self.forces.clone(),
             bases: self.bases.clone(),
             work: self.work.clone(),
@@ -687,6 +693,7 @@ impl Clone for TrainSide {
         self.body_wind.clone_from(&source.body_wind);
         self.factors.clone_from(&source.factors);
         self.sparse.clone_from(&source.sparse);
+        self.model_of.clone_from(&source.model_of);
         self.forces.clone_from(&source.forces);
     }
 }
@@ -722,15 +729,16 @@ impl TrainSide {
                     .map(|tv| VehicleSparse::of(&tv.model))
                     .collect(),
             ),
-            forces: Arc::new(
-                wheelsets
-                    .iter()
-                    .map(|ws| {
-                        let c = &train.vehicles[ws.vehicle].model.wheelsets[ws.local];
-                        WheelForce::of(ws.vehicle, c)
+            model_of: Arc::new(
+                (train.vehicles.iter())
+                    .map(|tv| {
+                        (train.vehicles.iter())
+                            .position(|first| Arc::ptr_eq(&first.model, &tv.model))
+                            .expect("the vehicle itself")
                     })
                     .collect(),
             ),
+            forces: Arc::new(WheelForce::of_train(&train, &wheelsets)),
             bases: vec![StepBase::default(); train.vehicles.len()],
             work: train
                 .vehicles
@@ -781,20 +789,21 @@ impl TrainSide {
             let nw = model.wheelsets.len();
             let n = model.ndof();
             if n > 0 {
-                if self.factors[i].h != h {
-                    Arc::make_mut(&mut self.factors)[i] = Factor::of(model, &self.sparse[i], h);
+                let f = self.model_of[i];
+                if self.factors[f].h != h {
+                    Arc::make_mut(&mut self.factors)[f] = Factor::of(model, &self.sparse[f], h);
                 }
                 // Solved for the new acceleration (see BridgeSide::step):
                 // (M + h/2 C + h²/4 K) v̈₁ = F₁ − C v̇ₚ − K vₚ − Σ_l (K_vw u + C_vw u̇)_l, and
                 // M + h/2 C + h²/4 K is h²/4 times the factorised K̂ = a0 M + a1 C + K, so
                 // v̈₁ = b + Σ_l G_l (u_l, u̇_l) + a0 K̂⁻¹ F₁ (Factor::gain, StepBase); then
                 // v = vₚ + h²/4 v̈₁, v̇ = v̇ₚ + h/2 v̈₁.
-                let factor = &self.factors[i];
+                let factor = &self.factors[f];
                 let chol = factor.chol.as_ref().expect("factor set above");
                 let s = &mut self.states[i];
                 let base = &mut self.bases[i];
                 if !base.matches(h, s) {
-                    base.make(h, s, &self.sparse[i], chol);
+                    base.make(h, s, &self.sparse[f], chol);
                 }
                 let a = s.vdd.as_mut_slice();
                 a.copy_from_slice(&base.b);
@@ -837,8 +846,7 @@ impl TrainSide {
     /// [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the non-zero entries of
     /// `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
     pub fn force(&self, w: usize) -> Vector3<f64> {
-        let c = &self.forces[w];
-        c.force(&self.states[c.vehicle], &self.rails[w])
+        self.forces[w].force(&self.states[self.wheelsets[w].vehicle], &self.rails[w])
     }
 }
 
