@@ -82,6 +82,9 @@ impl<M: FmuModel> Instance<M> {
 }
 
 /// The common frame of every function taking a component (steps 1–5 of the module docs).
+/// Only the checks and the call of `body` are made for each function; what a refused or
+/// failed call reports is in [`refused`], one copy per model, out of the way of the
+/// functions' code.
 unsafe fn call<M: FmuModel>(
     c: fmi2Component,
     function: Function,
@@ -92,37 +95,48 @@ unsafe fn call<M: FmuModel>(
         let Some(inst) = (unsafe { instance::<M>(c) }) else {
             return Status::Error;
         };
-        let state = inst.frame.state;
-        if !function.is_allowed_in(state) {
-            inst.fail(
-                function,
-                &format!(
-                    "illegal call in state {state} (allowed in: {})",
-                    function.allowed()
-                ),
-            );
-            return Status::Error;
+        if !function.is_allowed_in(inst.frame.state) {
+            return refused(inst, function, Refusal::State);
         }
         match catch_unwind(AssertUnwindSafe(|| body(&mut *inst))) {
             Ok(Ok(status)) if status < Status::Error => status,
-            Ok(Ok(status)) => {
-                inst.fail(function, &format!("failed with {}", status.name()));
-                Status::Error
-            }
-            Ok(Err(message)) => {
-                inst.fail(function, &message);
-                Status::Error
-            }
-            Err(payload) => {
-                inst.fail(
-                    function,
-                    &format!("panic in the model: {}", panic_message(&*payload)),
-                );
-                Status::Error
-            }
+            Ok(Ok(status)) => refused(inst, function, Refusal::Status(status)),
+            Ok(Err(message)) => refused(inst, function, Refusal::Message(message)),
+            Err(payload) => refused(inst, function, Refusal::Panic(payload)),
         }
     }));
     outcome.unwrap_or(Status::Error).raw()
+}
+
+/// Why [`call`] refuses a call.
+enum Refusal {
+    /// Not allowed in the instance's state.
+    State,
+    /// The model returned an error or fatal status.
+    Status(Status),
+    /// The model returned an error message.
+    Message(String),
+    /// The model panicked.
+    Panic(Box<dyn std::any::Any + Send>),
+}
+
+/// Logs `why` as an error of `function`, enters the `Error` state and returns the error
+/// status.
+#[cold]
+#[inline(never)]
+fn refused<M: FmuModel>(inst: &mut Instance<M>, function: Function, why: Refusal) -> Status {
+    let message = match why {
+        Refusal::State => format!(
+            "illegal call in state {} (allowed in: {})",
+            inst.frame.state,
+            function.allowed()
+        ),
+        Refusal::Status(status) => format!("failed with {}", status.name()),
+        Refusal::Message(message) => message,
+        Refusal::Panic(payload) => format!("panic in the model: {}", panic_message(&*payload)),
+    };
+    inst.fail(function, &message);
+    Status::Error
 }
 
 /// `&[T]` from a C array, refusing NULL with `n > 0` and impossible lengths.
