@@ -110,6 +110,19 @@ impl Train {
         out
     }
 
+    /// Per vehicle, the first vehicle with the same model (the same `Arc`, as the coaches of
+    /// one train; the vehicle itself when none before it has it). Data derived from a model
+    /// alone can be kept once per model and read from there.
+    pub fn first_of_same_model(&self) -> Vec<usize> {
+        (self.vehicles.iter())
+            .map(|tv| {
+                (self.vehicles.iter())
+                    .position(|first| Arc::ptr_eq(&first.model, &tv.model))
+                    .expect("the vehicle itself")
+            })
+            .collect()
+    }
+
     pub fn n_wheelsets(&self) -> usize {
         self.vehicles.iter().map(|v| v.model.wheelsets.len()).sum()
     }

@@ -164,14 +164,21 @@ impl WheelForce {
         train: &crate::train::Train,
         wheelsets: &[crate::train::WheelsetRef],
     ) -> Vec<std::sync::Arc<WheelForce>> {
-        let model = |ws: &crate::train::WheelsetRef| &train.vehicles[ws.vehicle].model;
+        let first_of = train.first_of_same_model();
+        // where each vehicle's wheelsets start in `wheelsets` (front to back, by vehicle)
+        let mut start = vec![0; train.vehicles.len()];
+        for (w, ws) in wheelsets.iter().enumerate().rev() {
+            start[ws.vehicle] = w;
+        }
         let mut out: Vec<std::sync::Arc<WheelForce>> = Vec::with_capacity(wheelsets.len());
-        for (w, ws) in wheelsets.iter().enumerate() {
-            let same = (wheelsets[..w].iter())
-                .position(|o| o.local == ws.local && std::sync::Arc::ptr_eq(model(o), model(ws)));
-            let f = match same {
-                Some(k) => out[k].clone(),
-                None => std::sync::Arc::new(WheelForce::of(&model(ws).wheelsets[ws.local])),
+        for ws in wheelsets {
+            let same = start[first_of[ws.vehicle]] + ws.local;
+            let f = match out.get(same) {
+                Some(first) => first.clone(),
+                None => {
+                    let model = &train.vehicles[ws.vehicle].model;
+                    std::sync::Arc::new(WheelForce::of(&model.wheelsets[ws.local]))
+                }
             };
             out.push(f);
         }

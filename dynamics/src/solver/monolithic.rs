@@ -120,10 +120,9 @@ impl Monolithic {
         // Vehicles of one model (the same `Arc`, as the coaches of one train) share their
         // constant blocks, so a step reads one copy of them.
         let mut cache: Vec<Arc<VehicleCache>> = Vec::with_capacity(train.vehicles.len());
-        for (i, tv) in train.vehicles.iter().enumerate() {
-            let same = (train.vehicles[..i].iter()).position(|p| Arc::ptr_eq(&p.model, &tv.model));
-            let c = match same {
-                Some(j) => cache[j].clone(),
+        for (tv, j) in train.vehicles.iter().zip(train.first_of_same_model()) {
+            let c = match cache.get(j) {
+                Some(first) => first.clone(),
                 None => Arc::new(vehicle_cache(&tv.model, &nm)),
             };
             cache.push(c);

@@ -624,8 +624,8 @@ pub struct TrainSide {
     /// The vehicles' matrices in sparse rows (derived from the model; shared by clones).
     /// Only the entries `model_of` names are used.
     sparse: Arc<Vec<VehicleSparse>>,
-    /// Per vehicle, the first vehicle with the same model (the same `Arc`, as the coaches of
-    /// one train): its factor and sparse rows serve both, so a step reads one copy of them.
+    /// Per vehicle, the first vehicle with the same model ([`Train::first_of_same_model`]):
+    /// its factor and sparse rows serve both, so a step reads one copy of them.
     model_of: Arc<Vec<usize>>,
     /// Per wheelset, what its force needs (derived from the model; shared by clones, and by
     /// the wheelsets at the same place of vehicles of one model).
@@ -729,15 +729,7 @@ impl TrainSide {
                     .map(|tv| VehicleSparse::of(&tv.model))
                     .collect(),
             ),
-            model_of: Arc::new(
-                (train.vehicles.iter())
-                    .map(|tv| {
-                        (train.vehicles.iter())
-                            .position(|first| Arc::ptr_eq(&first.model, &tv.model))
-                            .expect("the vehicle itself")
-                    })
-                    .collect(),
-            ),
+            model_of: Arc::new(train.first_of_same_model()),
             forces: Arc::new(WheelForce::of_train(&train, &wheelsets)),
             bases: vec![StepBase::default(); train.vehicles.len()],
             work: train

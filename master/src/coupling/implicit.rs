@@ -61,7 +61,7 @@
 //! weights at `tₙ₊₁` otherwise); [`Predictor::Linear`] `x₀ = xₙ + (tₙ₊₁ − tₙ)/(tₙ − tₙ₋₁) · (xₙ − xₙ₋₁)`; or
 //! [`Predictor::Constant`] `x₀ = xₙ`. The closer the first guess, the smaller the first
 //! residual and the fewer the sweeps: on the train–bridge systems the quadratic predictor
-//! needs 2.46 sweeps per step on the bench case against 2.55 for the linear one, 2.35
+//! needs 2.47 sweeps per step on the bench case against 2.55 for the linear one, 2.35
 //! against 2.39 on the default case (IQN-ILS); higher orders amplify the wheel forces'
 //! high-frequency content (see PERFORMANCE.md). The converged result does not depend on the
 //! predictor beyond the tolerance.
@@ -108,6 +108,17 @@ pub enum Predictor {
     /// two, the value at the start of the step when there is one).
     #[default]
     Quadratic,
+}
+
+impl Predictor {
+    /// How many accepted values it extrapolates from (the history it keeps).
+    fn points(self) -> usize {
+        match self {
+            Predictor::Constant => 1,
+            Predictor::Linear => 2,
+            Predictor::Quadratic => 3,
+        }
+    }
 }
 
 /// Implicit serial coupling with an acceleration of the interface iteration.
@@ -230,12 +241,7 @@ impl Implicit {
             };
             self.history.push((t, start));
         }
-        let keep = if self.predictor == Predictor::Quadratic {
-            3
-        } else {
-            2
-        };
-        while self.history.len() > keep {
+        while self.history.len() > self.predictor.points() {
             let (_, v) = self.history.remove(0);
             self.spare.push(v);
         }
