@@ -500,6 +500,9 @@ struct Factor {
     /// after wheelset: the new acceleration is `v̈₁ = b + Σ_l G_l (u_l, u̇_l)` with `b` from
     /// the state at the start of the step ([`StepBase`]).
     gain: Vec<f64>,
+    /// `E = −a0 K̂⁻¹ [K   C + h K   h/2 C + h²/4 K]`, `n × 3n` column-major: the part of the
+    /// new acceleration that follows from the state, `b = E (v, v̇, v̈)` ([`StepBase`]).
+    base: Vec<f64>,
 }
 
 impl Factor {
@@ -523,16 +526,36 @@ impl Factor {
                 chol.solve_mut(col);
             }
         }
+        // vₚ = v + h v̇ + h²/4 v̈ and v̇ₚ = v̇ + h/2 v̈ in C v̇ₚ + K vₚ, column by column
+        let mut base = vec![0.0; 3 * n * n];
+        let mut unit = vec![0.0; n];
+        for (j, col) in base.chunks_exact_mut(n).enumerate() {
+            let (part, dof) = (j / n, j % n);
+            let (ck, cc) = match part {
+                0 => (1.0, 0.0),
+                1 => (h, 1.0),
+                _ => (0.25 * h * h, 0.5 * h),
+            };
+            unit.fill(0.0);
+            unit[dof] = 1.0;
+            sp.k.mul_add(-nm.a0 * ck, &unit, col);
+            if cc != 0.0 {
+                sp.c.mul_add(-nm.a0 * cc, &unit, col);
+            }
+            chol.solve_mut(col);
+        }
         Factor {
             h,
             chol: Some(chol),
             gain,
+            base,
         }
     }
 }
 
 /// The part of a vehicle's step that does not depend on the rail motion: the predictors
-/// `vₚ = v + h v̇ + h²/4 v̈`, `v̇ₚ = v̇ + h/2 v̈` and `b = −a0 K̂⁻¹ (C v̇ₚ + K vₚ)`, kept for the
+/// `vₚ = v + h v̇ + h²/4 v̈`, `v̇ₚ = v̇ + h/2 v̈` and `b = −a0 K̂⁻¹ (C v̇ₚ + K vₚ)` (as one
+/// product `E (v, v̇, v̈)` with the factor's dense [`Factor::base`]), kept for the
 /// state (bit for bit) and step size they were made from. An iterating master steps from the
 /// same state again and again; each repetition then costs only the rail-motion terms.
 #[derive(Debug, Clone, Default)]
@@ -562,8 +585,7 @@ impl StepBase {
                 == 0
     }
 
-    fn make(&mut self, h: f64, s: &VehicleState, sp: &VehicleSparse, chol: &SparseCholesky) {
-        let nm = Newmark::new(h);
+    fn make(&mut self, h: f64, s: &VehicleState, factor: &Factor) {
         self.h = h;
         self.key.clear();
         for part in [&s.v, &s.vd, &s.vdd] {
@@ -578,9 +600,7 @@ impl StepBase {
             .extend((vd.iter().zip(vdd)).map(|(vd, a)| vd + 0.5 * h * a));
         self.b.clear();
         self.b.resize(s.v.len(), 0.0);
-        sp.c.mul_add(-nm.a0, &self.vdp, &mut self.b);
-        sp.k.mul_add(-nm.a0, &self.vp, &mut self.b);
-        chol.solve_mut(&mut self.b);
+        crate::simd::axpy_columns(&mut self.b, &self.key, &factor.base);
     }
 }
 
@@ -718,6 +738,7 @@ impl TrainSide {
                     h: f64::NAN,
                     chol: None,
                     gain: Vec::new(),
+                    base: Vec::new(),
                 };
                 train.vehicles.len()
             ]),
@@ -795,7 +816,7 @@ impl TrainSide {
                 let s = &mut self.states[i];
                 let base = &mut self.bases[i];
                 if !base.matches(h, s) {
-                    base.make(h, s, &self.sparse[f], chol);
+                    base.make(h, s, factor);
                 }
                 let a = s.vdd.as_mut_slice();
                 a.copy_from_slice(&base.b);
