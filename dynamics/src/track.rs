@@ -25,6 +25,11 @@ pub trait RailProfile: Send + Sync + Debug {
     fn is_flat(&self) -> bool {
         false
     }
+
+    /// A hint that [`Self::at`] at `x` follows soon (the wheelsets' positions of the next
+    /// step), so that a profile whose data may not be in the cache can start loading it.
+    /// Changes no result. Default: nothing.
+    fn prefetch(&self, _x: f64) {}
 }
 
 /// A perfectly smooth track.
@@ -98,5 +103,9 @@ impl RailProfile for tbi_track::Irregularity {
 
     fn is_flat(&self) -> bool {
         matches!(self, tbi_track::Irregularity::None)
+    }
+
+    fn prefetch(&self, x: f64) {
+        tbi_track::Irregularity::prefetch(self, x)
     }
 }

@@ -143,6 +143,14 @@ impl Irregularity {
         }
     }
 
+    /// A hint that [`Self::at`] at `x` follows soon ([`Profile::prefetch`]).
+    #[inline]
+    pub fn prefetch(&self, x: f64) {
+        if let Some(p) = self.profile() {
+            p.prefetch(x);
+        }
+    }
+
     /// The interpolation table, if any.
     pub fn profile(&self) -> Option<&Profile> {
         match self {

@@ -145,6 +145,36 @@ impl Profile {
         }
     }
 
+    /// A hint that [`Self::at`] at `x` follows soon: starts loading the node and coefficients
+    /// it reads into the cache, so that a caller that knows where the wheelsets will be next
+    /// (the table of a long track does not fit the cache) does not wait for them then.
+    /// Reads nothing and changes nothing; outside the table, nothing.
+    #[inline]
+    pub fn prefetch(&self, x: f64) {
+        let n = self.x.len();
+        let g = (x - self.x[0]) * self.inv_mean_spacing;
+        if !(g >= 0.0 && g < n as f64) {
+            return;
+        }
+        let i = g as usize;
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            // SAFETY: a prefetch only hints the cache; both addresses are inside the tables
+            // (i < n = coef.len() = x.len()), and SSE is part of x86_64.
+            #[allow(unused_unsafe)]
+            unsafe {
+                // an entry is 96 bytes: its first and last byte
+                let c = self.coef.as_ptr().add(i).cast::<i8>();
+                _mm_prefetch::<_MM_HINT_T0>(c);
+                _mm_prefetch::<_MM_HINT_T0>(c.add(95));
+                _mm_prefetch::<_MM_HINT_T0>(self.x.as_ptr().add(i).cast());
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = i;
+    }
+
     /// The unique `i` with `x_i ≤ x < x_{i+1}` (`n − 1` at the last node), for
     /// `x_0 ≤ x ≤ x_{n−1}`. Guesses from the mean spacing (exact on a uniform grid), then
     /// falls back to bisection.

@@ -728,3 +728,26 @@ fn record_columns_are_validated() {
     let e = err(vec![0.0], [vec![0.0], vec![0.0], vec![0.0]], None, false);
     assert!(e.contains("at least 2"), "{e}");
 }
+
+/// The prefetch hint reads and changes nothing: anywhere, including outside the table and
+/// at non-finite positions, the values afterwards are bit for bit those before.
+#[test]
+fn a_prefetch_changes_no_value() {
+    let s = sample(Spectrum::GermanLow, 7, 0.0, 500.0);
+    let irr = Irregularity::Generated(Box::new(s));
+    let (x0, x1) = irr.profile().unwrap().domain();
+    let mut xs = random_points(3, 200, x0 - 50.0, x1 + 50.0);
+    xs.extend([x0, x1, x0 - 1e-9, x1 + 1e-9, 0.5 * (x0 + x1)]);
+    let before: Vec<RailIrregularity> = xs.iter().map(|&x| irr.at(x)).collect();
+    for x in xs
+        .iter()
+        .copied()
+        .chain([f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1e300, 1e300])
+    {
+        irr.prefetch(x);
+        Irregularity::None.prefetch(x);
+    }
+    for (&x, b) in xs.iter().zip(before) {
+        assert_bit_identical(irr.at(x), b, x);
+    }
+}

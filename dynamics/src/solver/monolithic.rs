@@ -274,6 +274,9 @@ impl Monolithic {
             self.presc[w] = if flat {
                 [Vector3::zeros(); 3]
             } else {
+                // the track's data a step on is read next step
+                self.track
+                    .prefetch(self.train.x_at(ws.offset_m, t + self.nm.h));
                 rail_prescribed(&*self.track, &self.train, w, x, t)
             };
         }

@@ -306,6 +306,10 @@ impl BridgeSide {
             s.qdd[n] = a;
         }
         self.force = fq;
+        // where the wheelsets will be a step on: the track's data there is read next step
+        for wi in inputs {
+            self.track.prefetch(wi.x + wi.vx * h);
+        }
     }
 
     /// Rail motion (u, u̇, ü) under wheelset slot `w` at `x`, moving at `vx`: deck plus
