@@ -55,6 +55,9 @@ struct VehicleCache {
     cvw: Vec<Csr>,
     /// The non-zero entries of S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w) by row (empty when S = 0).
     s_rows: Vec<Vec<(usize, f64)>>,
+    /// The same entries as a dense 3n_w × 3n_w matrix, column after column (zeros elsewhere;
+    /// empty when S = 0).
+    s_dense: Vec<f64>,
     /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
     h: DMatrix<f64>,
 }
@@ -541,11 +544,33 @@ impl Monolithic {
         self.work = w;
     }
 
-    /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled).
+    /// Each coupled vehicle's `U` (its wheelsets' `Ψ` on the deck, zeros off it) at this
+    /// step's positions, mode after mode (`u[n · 3n_w + 3l + k] = Ψ_{w_l}[n][k]`), for
+    /// [`Monolithic::apply_reduced_with`].
+    fn gather_blocks(&self, vehicles: &[usize], blocks: &mut [Vec<f64>]) {
+        let nb = self.q.len();
+        for &i in vehicles {
+            let f0 = self.first_ws[i];
+            let nwi = self.train.vehicles[i].model.wheelsets.len();
+            let u = &mut blocks[i];
+            if self.cache[i].s_dense.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+                u.clear();
+                continue;
+            }
+            let psi = &self.psi[f0 * nb..(f0 + nwi) * nb];
+            gather_block(psi, nb, |l| self.on[f0 + l], u);
+        }
+    }
+
+    /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled): per vehicle
+    /// `U x` as one sum over the modes of the gathered `U` ([`Monolithic::gather_blocks`]; each
+    /// rail value summed over the modes in order, as [`psi_mul`]), `S (U x)` with the dense
+    /// `S` (column order), and `Uᵀ` of that per wheelset on the deck.
     #[allow(clippy::too_many_arguments)]
     fn apply_reduced_with(
         &self,
         vehicles: &[usize],
+        blocks: &[Vec<f64>],
         dhat: &DVector<f64>,
         x: &[f64],
         y: &mut [f64],
@@ -557,19 +582,17 @@ impl Monolithic {
             y[n] = dhat[n] * x[n];
         }
         for &i in vehicles {
-            let f0 = self.first_ws[i];
-            let nwi = self.train.vehicles[i].model.wheelsets.len();
-            let cache = &self.cache[i];
-            if cache.s_rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+            let u = &blocks[i];
+            if u.is_empty() {
                 continue;
             }
-            psi_mul_wheelsets(&self.psi[f0 * nb..(f0 + nwi) * nb], x, &mut ux[..3 * nwi]);
-            for l in (0..nwi).filter(|&l| !self.on[f0 + l]) {
-                ux[3 * l..3 * l + 3].fill(0.0);
-            }
-            for (r, row) in cache.s_rows.iter().enumerate() {
-                sx[r] = row.iter().map(|&(c, v)| v * ux[c]).sum();
-            }
+            let f0 = self.first_ws[i];
+            let nwi = self.train.vehicles[i].model.wheelsets.len();
+            let r = 3 * nwi;
+            let (ux, sx) = (&mut ux[..r], &mut sx[..r]);
+            block_mul(u, x, ux);
+            sx.fill(0.0);
+            crate::simd::axpy_columns(sx, ux, &self.cache[i].s_dense);
             for l in 0..nwi {
                 let ws = f0 + l;
                 if self.on[ws] {
@@ -618,8 +641,10 @@ impl Monolithic {
             ux,
             sx,
             busy_vehicles,
+            blocks,
             ..
         } = w;
+        self.gather_blocks(busy_vehicles, blocks);
         let inverse = pre.as_ref().filter(|_| lagged);
         let dhat: &DVector<f64> = dhat;
         let mut precondition = |v: &mut DVector<f64>| match inverse {
@@ -637,7 +662,15 @@ impl Monolithic {
         if bq.amax() == 0.0 {
             return true;
         }
-        self.apply_reduced_with(busy_vehicles, dhat, x.as_slice(), ap.as_mut_slice(), ux, sx);
+        self.apply_reduced_with(
+            busy_vehicles,
+            blocks,
+            dhat,
+            x.as_slice(),
+            ap.as_mut_slice(),
+            ux,
+            sx,
+        );
         r.copy_from(bq);
         *r -= &*ap;
         z.copy_from(r);
@@ -665,7 +698,15 @@ impl Monolithic {
                 }
                 return true;
             }
-            self.apply_reduced_with(busy_vehicles, dhat, p.as_slice(), ap.as_mut_slice(), ux, sx);
+            self.apply_reduced_with(
+                busy_vehicles,
+                blocks,
+                dhat,
+                p.as_slice(),
+                ap.as_mut_slice(),
+                ux,
+                sx,
+            );
             let pap = p.dot(ap);
             if pap <= 0.0 {
                 w.pre = None;
@@ -827,37 +868,27 @@ fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     u
 }
 
-/// `Ψ q` ([`psi_mul`]) of several wheelsets, their shapes `psi` one after the other
-/// (`q.len()` modes each), into `out` (three values per wheelset): up to four wheelsets in one
-/// pass over the modes, so that their twelve sums, each a chain of dependent additions in the
-/// order of [`psi_mul`], proceed side by side (bitwise the same values).
-fn psi_mul_wheelsets(psi: &[[f64; 3]], q: &[f64], out: &mut [f64]) {
-    let nb = q.len();
-    for (psi, out) in psi.chunks(4 * nb).zip(out.chunks_mut(12)) {
-        match out.len() / 3 {
-            4 => psi_mul_lanes::<4>(psi, q, out),
-            3 => psi_mul_lanes::<3>(psi, q, out),
-            2 => psi_mul_lanes::<2>(psi, q, out),
-            _ => psi_mul_lanes::<1>(psi, q, out),
+/// A vehicle's wheelsets' shapes `psi` (one after the other, `nb` modes each) as the block
+/// `U` of [`Monolithic::apply_reduced_with`], mode after mode: `u[n · 3n_w + 3l + k] =
+/// psi[l nb + n][k]`, zeros for the wheelsets `on(l)` rejects.
+fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut Vec<f64>) {
+    let r = 3 * (psi.len() / nb.max(1));
+    u.clear();
+    u.resize(nb * r, 0.0);
+    for (l, shapes) in psi.chunks_exact(nb.max(1)).enumerate() {
+        if on(l) {
+            for (n, p) in shapes.iter().enumerate() {
+                u[n * r + 3 * l..n * r + 3 * l + 3].copy_from_slice(p);
+            }
         }
     }
 }
 
-fn psi_mul_lanes<const L: usize>(psi: &[[f64; 3]], q: &[f64], out: &mut [f64]) {
-    let nb = q.len();
-    let rows: [&[[f64; 3]]; L] = std::array::from_fn(|l| &psi[l * nb..(l + 1) * nb]);
-    let mut acc = [[0.0; 3]; L];
-    for (n, &qn) in q.iter().enumerate() {
-        for l in 0..L {
-            let p = rows[l][n];
-            for k in 0..3 {
-                acc[l][k] += p[k] * qn;
-            }
-        }
-    }
-    for (o, a) in out.chunks_exact_mut(3).zip(&acc) {
-        o.copy_from_slice(a);
-    }
+/// `out = U x` for a gathered block `u` ([`gather_block`]): each value summed over the modes
+/// in order, from zero, as [`psi_mul`] sums.
+fn block_mul(u: &[f64], x: &[f64], out: &mut [f64]) {
+    out.fill(0.0);
+    crate::simd::axpy_columns(out, x, u);
 }
 
 /// `Ψ a`, `Ψ b` in one pass over Ψ (each sum in the order of [`psi_mul`]).
@@ -956,6 +987,8 @@ struct Work {
     cg_t: DVector<f64>,
     ux: Vec<f64>,
     sx: Vec<f64>,
+    /// Per vehicle, its gathered `U` for the reduced products ([`Monolithic::gather_blocks`]).
+    blocks: Vec<Vec<f64>>,
     vm: Vec<DVector<f64>>,
     vc: Vec<DVector<f64>>,
     bv: Vec<DVector<f64>>,
@@ -1014,6 +1047,7 @@ impl Work {
             cg_t: DVector::zeros(nb),
             ux: vec![0.0; wmax],
             sx: vec![0.0; wmax],
+            blocks: vec![Vec::new(); train.vehicles.len()],
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),
@@ -1049,6 +1083,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
             c,
             kvw,
             cvw,
+            s_dense: dense_of_rows(&sparse_rows(&s), 3 * nw),
             s_rows: sparse_rows(&s),
             h: DMatrix::zeros(3 * nw, 0),
         };
@@ -1075,6 +1110,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         c,
         kvw,
         cvw,
+        s_dense: dense_of_rows(&sparse_rows(&s), 3 * nw),
         s_rows: sparse_rows(&s),
         h,
     }
@@ -1097,14 +1133,29 @@ fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
         .collect()
 }
 
+/// The rows of [`sparse_rows`] as a dense `n × n` matrix, column after column (empty for no
+/// rows).
+fn dense_of_rows(rows: &[Vec<(usize, f64)>], n: usize) -> Vec<f64> {
+    if rows.is_empty() {
+        return Vec::new();
+    }
+    let mut d = vec![0.0; n * n];
+    for (r, row) in rows.iter().enumerate() {
+        for &(c, v) in row {
+            d[c * n + r] = v;
+        }
+    }
+    d
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Several wheelsets' `Ψ q` side by side equal one [`psi_mul`] per wheelset bit for bit,
-    /// for one to nine wheelsets (groups of four and the rest).
+    /// A vehicle's gathered block gives each wheelset's `Ψ q` bit for bit as one [`psi_mul`]
+    /// per wheelset does, for one to nine wheelsets, and zeros for the wheelsets left out.
     #[test]
-    fn wheelsets_side_by_side_give_each_wheelsets_product() {
+    fn a_gathered_block_gives_each_wheelsets_product() {
         let nb = 23;
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut next = || {
@@ -1118,10 +1169,15 @@ mod tests {
             .collect();
         for nw in 1..=9 {
             let psi: Vec<[f64; 3]> = (0..nw * nb).map(|_| [next(), next(), next()]).collect();
-            let mut out = vec![f64::NAN; 3 * nw];
-            psi_mul_wheelsets(&psi, &q, &mut out);
+            let (mut u, mut out) = (Vec::new(), vec![f64::NAN; 3 * nw]);
+            gather_block(&psi, nb, |l| l != 1, &mut u);
+            block_mul(&u, &q, &mut out);
             for l in 0..nw {
-                let one = psi_mul(&psi[l * nb..(l + 1) * nb], &q);
+                let one = if l == 1 {
+                    Vector3::zeros()
+                } else {
+                    psi_mul(&psi[l * nb..(l + 1) * nb], &q)
+                };
                 for k in 0..3 {
                     assert_eq!(out[3 * l + k].to_bits(), one[k].to_bits(), "{nw} wheelsets");
                 }
