@@ -374,18 +374,29 @@ impl Monolithic {
     /// `pred[w] = (Ψ q_c, Ψ q_m)` under the same shapes: one pass over the shapes instead of
     /// three (the other entries of `out` are left as they are; `out` gets one entry per
     /// wheelset).
-    fn deck_motion_at_end(
-        &self,
-        busy: &[usize],
-        pred: &[[Vector3<f64>; 2]],
-        out: &mut Vec<[Vector3<f64>; 3]>,
-    ) {
+    fn deck_motion_at_end(&self, w: &mut Work) {
         let (a0, a1) = (self.nm.a0, self.nm.a1);
+        let out = &mut w.deck;
         out.resize(self.wheelsets.len(), [Vector3::zeros(); 3]);
-        for &w in busy {
-            out[w] = if self.on[w] {
-                let u = psi_mul(self.psi_w(w), self.q.as_slice());
-                let [pv, pm] = pred[w];
+        // Ψ q₁ of each wheelset of a vehicle on the deck, from the vehicle's block
+        let psi_q = &mut w.psi_q;
+        psi_q.resize(self.wheelsets.len(), Vector3::zeros());
+        for &i in &w.busy_vehicles {
+            let u = &w.blocks[i];
+            if u.is_empty() {
+                continue;
+            }
+            let (f0, r3) = (self.first_ws[i], u.len() / self.q.len());
+            let uq = &mut w.ux[..r3];
+            block_mul(u, self.q.as_slice(), uq);
+            for (l, v) in uq.chunks_exact(3).enumerate() {
+                psi_q[f0 + l] = Vector3::new(v[0], v[1], v[2]);
+            }
+        }
+        for &ws in &w.busy {
+            out[ws] = if self.on[ws] {
+                let u = psi_q[ws];
+                let [pv, pm] = w.pred[ws];
                 [u, a1 * u - pv, a0 * u - pm]
             } else {
                 [Vector3::zeros(); 3]
@@ -423,6 +434,7 @@ impl Monolithic {
         let t1 = self.t + nm.h;
         self.update_geometry(t1);
         let mut w = std::mem::take(&mut self.work);
+        self.gather_blocks(&w.busy_vehicles, &mut w.blocks);
         // Bridge predictors and the diagonal part.
         for n in 0..nb {
             let c = 2.0 * self.zeta[n] * self.omega[n];
@@ -456,13 +468,24 @@ impl Monolithic {
                     self.train.add_wind_force(i, t1, u, 1.0, bv);
                 }
             }
+            // Ψ q_c, Ψ q_m of the vehicle's wheelsets (zeros off the deck)
+            let r3 = 3 * model.wheelsets.len();
+            let (uqc, uqm) = (&mut w.ux[..r3], &mut w.sx[..r3]);
+            if w.blocks[i].is_empty() {
+                uqc.fill(0.0);
+                uqm.fill(0.0);
+            } else {
+                block_mul(&w.blocks[i], w.qc.as_slice(), uqc);
+                block_mul(&w.blocks[i], w.qm.as_slice(), uqm);
+            }
             for (l, c) in model.wheelsets.iter().enumerate() {
                 let ws = f0 + l;
                 let [r, rd, rdd] = self.presc[ws];
                 let on = self.on[ws];
                 let psi = &self.psi[ws * nb..(ws + 1) * nb];
                 let (pv, pm) = if on {
-                    psi_mul2(psi, w.qc.as_slice(), w.qm.as_slice())
+                    let at = |u: &[f64]| Vector3::new(u[3 * l], u[3 * l + 1], u[3 * l + 2]);
+                    (at(uqc), at(uqm))
                 } else {
                     (Vector3::zeros(), Vector3::zeros())
                 };
@@ -511,7 +534,7 @@ impl Monolithic {
         }
         self.q.copy_from(q1);
         // The deck's rail motion at the new state, once: its Ψ q₁ serves the back-substitution.
-        self.deck_motion_at_end(&w.busy, &w.pred, &mut w.deck);
+        self.deck_motion_at_end(&mut w);
         // Back-substitute the vehicles: v1 = K̂⁻¹ b_v − Hᵀ U q1 (a vehicle with DOFs is busy).
         for &i in &w.busy_vehicles {
             let tv = &self.train.vehicles[i];
@@ -544,8 +567,9 @@ impl Monolithic {
         self.work = w;
     }
 
-    /// Each coupled vehicle's `U` (its wheelsets' `Ψ` on the deck, zeros off it) at this
-    /// step's positions, mode after mode (`u[n · 3n_w + 3l + k] = Ψ_{w_l}[n][k]`), for
+    /// Each busy vehicle's `U` (its wheelsets' `Ψ` on the deck, zeros off it; empty when none
+    /// is on it) at this step's positions, mode after mode (`u[n · 3n_w + 3l + k] =
+    /// Ψ_{w_l}[n][k]`): the products `Ψ q` of the step ([`block_mul`]) and of
     /// [`Monolithic::apply_reduced_with`].
     fn gather_blocks(&self, vehicles: &[usize], blocks: &mut [Vec<f64>]) {
         let nb = self.q.len();
@@ -553,7 +577,7 @@ impl Monolithic {
             let f0 = self.first_ws[i];
             let nwi = self.train.vehicles[i].model.wheelsets.len();
             let u = &mut blocks[i];
-            if self.cache[i].s_dense.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+            if !(f0..f0 + nwi).any(|ws| self.on[ws]) {
                 u.clear();
                 continue;
             }
@@ -564,7 +588,7 @@ impl Monolithic {
 
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled): per vehicle
     /// `U x` as one sum over the modes of the gathered `U` ([`Monolithic::gather_blocks`]; each
-    /// rail value summed over the modes in order, as [`psi_mul`]), `S (U x)` with the dense
+    /// rail value summed over the modes in order, as one wheelset's `Ψ q` sums them), `S (U x)` with the dense
     /// `S` (column order), and `Uᵀ` of that per wheelset on the deck.
     #[allow(clippy::too_many_arguments)]
     fn apply_reduced_with(
@@ -583,7 +607,7 @@ impl Monolithic {
         }
         for &i in vehicles {
             let u = &blocks[i];
-            if u.is_empty() {
+            if u.is_empty() || self.cache[i].s_dense.is_empty() {
                 continue;
             }
             let f0 = self.first_ws[i];
@@ -644,7 +668,6 @@ impl Monolithic {
             blocks,
             ..
         } = w;
-        self.gather_blocks(busy_vehicles, blocks);
         let inverse = pre.as_ref().filter(|_| lagged);
         let dhat: &DVector<f64> = dhat;
         let mut precondition = |v: &mut DVector<f64>| match inverse {
@@ -857,7 +880,8 @@ impl Costs {
 /// counts as exact.
 const CG_TOLERANCE: f64 = 1e-14;
 
-/// `Ψ q` of one wheelset, the modes summed in order (the reference of the other products).
+/// `Ψ q` of one wheelset, the modes summed in order (the reference of the block products).
+#[cfg(test)]
 fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     let mut u = Vector3::zeros();
     for (p, qn) in psi.iter().zip(q.iter()) {
@@ -885,25 +909,13 @@ fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut
 }
 
 /// `out = U x` for a gathered block `u` ([`gather_block`]): each value summed over the modes
-/// in order, from zero, as [`psi_mul`] sums.
+/// in order, from zero (as one wheelset's `Ψ q` sums them).
 fn block_mul(u: &[f64], x: &[f64], out: &mut [f64]) {
     out.fill(0.0);
     crate::simd::axpy_columns(out, x, u);
 }
 
-/// `Ψ a`, `Ψ b` in one pass over Ψ (each sum in the order of [`psi_mul`]).
-fn psi_mul2(psi: &[[f64; 3]], a: &[f64], b: &[f64]) -> (Vector3<f64>, Vector3<f64>) {
-    let (mut u, mut v) = (Vector3::zeros(), Vector3::zeros());
-    for ((p, an), bn) in psi.iter().zip(a).zip(b) {
-        for k in 0..3 {
-            u[k] += p[k] * an;
-            v[k] += p[k] * bn;
-        }
-    }
-    (u, v)
-}
-
-/// `Ψ a`, `Ψ b`, `Ψ c` in one pass over Ψ.
+/// `Ψ a`, `Ψ b`, `Ψ c` in one pass over Ψ (each sum over the modes in order).
 fn psi_mul3(psi: &[[f64; 3]], a: &[f64], b: &[f64], c: &[f64]) -> [Vector3<f64>; 3] {
     let mut r = [Vector3::zeros(); 3];
     for (n, p) in psi.iter().enumerate() {
@@ -987,8 +999,10 @@ struct Work {
     cg_t: DVector<f64>,
     ux: Vec<f64>,
     sx: Vec<f64>,
-    /// Per vehicle, its gathered `U` for the reduced products ([`Monolithic::gather_blocks`]).
+    /// Per vehicle, its gathered `U` ([`Monolithic::gather_blocks`]).
     blocks: Vec<Vec<f64>>,
+    /// Per wheelset, `Ψ q₁` at the end of the step ([`Monolithic::deck_motion_at_end`]).
+    psi_q: Vec<Vector3<f64>>,
     vm: Vec<DVector<f64>>,
     vc: Vec<DVector<f64>>,
     bv: Vec<DVector<f64>>,
@@ -1048,6 +1062,7 @@ impl Work {
             ux: vec![0.0; wmax],
             sx: vec![0.0; wmax],
             blocks: vec![Vec::new(); train.vehicles.len()],
+            psi_q: Vec::new(),
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),
