@@ -31,9 +31,11 @@
 //! Cholesky solve — independent of how many vehicle DOFs there are beyond the constant
 //! per-vehicle back-substitutions. The reduced system is solved by conjugate gradients
 //! preconditioned by the inverse of its own matrix at an earlier step (renewed as the
-//! wheelsets move on), to round-off; the vehicle blocks are multiplied and solved in sparse rows
-//! ([`crate::sparse`]). The tests check that this gives the same solution as a
-//! dense solve of the explicitly assembled matrices of eq. (14).
+//! wheelsets move on), to round-off. A vehicle's `K̂_v⁻¹ b_v` is two dense products made once
+//! with the factor, `K̂_v⁻¹ [a0 M + a1 C  a2 M + C  M]` times its state `(v, v̇, v̈)` (the
+//! Newmark predictors folded in) and `−K̂_v⁻¹ [K_vw  C_vw]` times its wheelsets' rail terms,
+//! so a step solves nothing per vehicle. The tests check that this gives the same solution as
+//! a dense solve of the explicitly assembled matrices of eq. (14).
 
 use super::{rail_prescribed, VehicleState, WheelForce};
 use crate::bridge::{ModalBridge, SHAPE_LANES};
@@ -46,12 +48,10 @@ use nalgebra::{DMatrix, DVector, Vector3};
 use std::sync::Arc;
 
 struct VehicleCache {
-    /// Cholesky of K̂_v, sparse (None for vehicles without DOFs).
+    /// Cholesky of K̂_v, sparse (None for vehicles without DOFs): the wind's share of
+    /// `K̂⁻¹ b_v`.
     chol: Option<SparseCholesky>,
-    /// M, C of the vehicle and K_vw, C_vw of each wheelset, sparse.
-    m: Csr,
-    c: Csr,
-    kvw: Vec<Csr>,
+    /// `C_vw` of each wheelset, sparse (`C_vwᵀ v_c` in the bridge's right-hand side).
     cvw: Vec<Csr>,
     /// The non-zero entries of S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w) by row (empty when S = 0).
     s_rows: Vec<Vec<(usize, f64)>>,
@@ -60,6 +60,15 @@ struct VehicleCache {
     s_dense: Vec<f64>,
     /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
     h: DMatrix<f64>,
+    /// `K̂⁻¹ [a0 M + a1 C   a2 M + C   M]` (n × 3n, column after column): `K̂⁻¹ (M v_m + C v_c)`
+    /// of the Newmark predictors `v_m = a0 v + a2 v̇ + v̈`, `v_c = a1 v + v̇` is this times
+    /// `(v, v̇, v̈)`.
+    e_state: Vec<f64>,
+    /// `−K̂⁻¹ [K_vw,l  C_vw,l]` of each wheelset `l` (n × 6n_w, column after column): the rail
+    /// terms of `K̂⁻¹ b_v` are this times `(r_l, ṙ_l − Ψ_l q_c)` of each wheelset.
+    e_rail: Vec<f64>,
+    /// `Ĝᵀ` (3n_w × n, column after column): `H b_v = Ĝᵀ (K̂⁻¹ b_v)`.
+    g_tr: Vec<f64>,
 }
 
 /// Monolithic Newmark integration of eq. (14) (see the module docs).
@@ -451,23 +460,33 @@ impl Monolithic {
             let vs = &self.vehicles[i];
             let f0 = self.first_ws[i];
             let n = model.ndof();
-            let bv = &mut w.bv[i];
+            // y = K̂⁻¹ b_v, the state's part first, the rails' after the wheelset loop
+            let y = &mut w.bv[i];
             let vc = &mut w.vc[i];
             if n > 0 {
-                let vm = &mut w.vm[i];
+                let state = &mut w.state;
+                state.clear();
+                for part in [&vs.v, &vs.vd, &vs.vdd] {
+                    state.extend_from_slice(part.as_slice());
+                }
+                y.fill(0.0);
+                crate::simd::axpy_columns(y.as_mut_slice(), state, &cache.e_state);
                 for k in 0..n {
-                    vm[k] = nm.mass_pred(vs.v[k], vs.vd[k], vs.vdd[k]);
                     vc[k] = nm.damp_pred(vs.v[k], vs.vd[k]);
                 }
-                bv.fill(0.0);
-                cache.m.mul_add(1.0, vm.as_slice(), bv.as_mut_slice());
-                cache.c.mul_add(1.0, vc.as_slice(), bv.as_mut_slice());
                 // the wind on the body beyond its static loads, F₁
                 if self.train.wind.is_some() {
+                    let f = &mut w.vm[i];
+                    f.fill(0.0);
                     let u = body_turbulence(&self.buffeting, &self.train, i, t1);
-                    self.train.add_wind_force(i, t1, u, 1.0, bv);
+                    self.train.add_wind_force(i, t1, u, 1.0, f);
+                    let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
+                    chol.solve_mut(f.as_mut_slice());
+                    *y += &*f;
                 }
             }
+            let rails = &mut w.rails;
+            rails.clear();
             // Ψ q_c, Ψ q_m of the vehicle's wheelsets (zeros off the deck)
             let r3 = 3 * model.wheelsets.len();
             let (uqc, uqm) = (&mut w.ux[..r3], &mut w.sx[..r3]);
@@ -491,8 +510,8 @@ impl Monolithic {
                 };
                 w.pred[ws] = [pv, pm];
                 if n > 0 {
-                    cache.kvw[l].mul_add(-1.0, r.as_slice(), bv.as_mut_slice());
-                    cache.cvw[l].mul_add(-1.0, (rd - pv).as_slice(), bv.as_mut_slice());
+                    rails.extend_from_slice(r.as_slice());
+                    rails.extend_from_slice((rd - pv).as_slice());
                 }
                 if on {
                     let mut g = c.p0 - c.m_w * (rdd - pm) - c.k_ww * r - c.c_ww * (rd - pv);
@@ -506,9 +525,11 @@ impl Monolithic {
                 }
             }
             if n > 0 {
-                // Ψᵀ (g − z_l) per wheelset on the deck, z = H b_v
+                crate::simd::axpy_columns(y.as_mut_slice(), rails, &cache.e_rail);
+                // Ψᵀ (g − z_l) per wheelset on the deck, z = H b_v = Ĝᵀ y
                 let z = &mut w.z[i];
-                z.gemv(1.0, &cache.h, bv, 0.0);
+                z.fill(0.0);
+                crate::simd::axpy_columns(z.as_mut_slice(), y.as_slice(), &cache.g_tr);
                 for l in 0..model.wheelsets.len() {
                     let ws = f0 + l;
                     if self.on[ws] {
@@ -549,11 +570,9 @@ impl Monolithic {
             for l in 0..nwi {
                 uq.fixed_rows_mut::<3>(3 * l).copy_from(&w.deck[f0 + l][0]);
             }
-            let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
-            // the mass predictor is spent: its buffer takes v1
+            // the scratch of the wind's share takes v1 = K̂⁻¹ b_v − Hᵀ U q₁
             let v1 = &mut w.vm[i];
             v1.copy_from(&w.bv[i]);
-            chol.solve_mut(v1.as_mut_slice());
             v1.gemv_tr(-1.0, &cache.h, uq, 1.0);
             let changed = self.vehicles[i].newmark_update(&nm, v1);
             // at rest: the same inputs (no deck, no prescribed motion, no wind) next step
@@ -1001,6 +1020,9 @@ struct Work {
     sx: Vec<f64>,
     /// Per vehicle, its gathered `U` ([`Monolithic::gather_blocks`]).
     blocks: Vec<Vec<f64>>,
+    /// Scratch of a vehicle's `(v, v̇, v̈)` and of its wheelsets' `(r, ṙ − Ψ q_c)`.
+    state: Vec<f64>,
+    rails: Vec<f64>,
     /// Per wheelset, `Ψ q₁` at the end of the step ([`Monolithic::deck_motion_at_end`]).
     psi_q: Vec<Vector3<f64>>,
     vm: Vec<DVector<f64>>,
@@ -1062,6 +1084,8 @@ impl Work {
             ux: vec![0.0; wmax],
             sx: vec![0.0; wmax],
             blocks: vec![Vec::new(); train.vehicles.len()],
+            state: Vec::new(),
+            rails: Vec::new(),
             psi_q: Vec::new(),
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
@@ -1087,20 +1111,17 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         let w_hat = nm.a0 * c.m_w + nm.a1 * c.c_ww + c.k_ww;
         s.view_mut((3 * l, 3 * l), (3, 3)).copy_from(&w_hat);
     }
-    let m = Csr::of(&model.m);
-    let c = Csr::of(&model.c);
-    let kvw: Vec<Csr> = model.wheelsets.iter().map(|w| Csr::of(&w.k_vw)).collect();
     let cvw: Vec<Csr> = model.wheelsets.iter().map(|w| Csr::of(&w.c_vw)).collect();
     if n == 0 {
         return VehicleCache {
             chol: None,
-            m,
-            c,
-            kvw,
             cvw,
             s_dense: dense_of_rows(&sparse_rows(&s), 3 * nw),
             s_rows: sparse_rows(&s),
             h: DMatrix::zeros(3 * nw, 0),
+            e_state: Vec::new(),
+            e_rail: Vec::new(),
+            g_tr: Vec::new(),
         };
     }
     let khat = nm.a0 * &model.m + nm.a1 * &model.c + &model.k;
@@ -1119,15 +1140,31 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     let kinv_g = chol.solve(&g); // n × 3nw
     s -= g.tr_mul(&kinv_g);
     let h = kinv_g.transpose();
+    let mut state = DMatrix::zeros(n, 3 * n);
+    state
+        .columns_mut(0, n)
+        .copy_from(&(nm.a0 * &model.m + nm.a1 * &model.c));
+    state
+        .columns_mut(n, n)
+        .copy_from(&(nm.a2 * &model.m + &model.c));
+    state.columns_mut(2 * n, n).copy_from(&model.m);
+    let mut rail = DMatrix::zeros(n, 6 * nw);
+    for (l, c) in model.wheelsets.iter().enumerate() {
+        rail.columns_mut(6 * l, 3).copy_from(&(-&c.k_vw));
+        rail.columns_mut(6 * l + 3, 3).copy_from(&(-&c.c_vw));
+    }
+    let e_state = chol.solve(&state).as_slice().to_vec();
+    let e_rail = chol.solve(&rail).as_slice().to_vec();
+    let g_tr = g.transpose().as_slice().to_vec();
     VehicleCache {
         chol: Some(SparseCholesky::of(&chol)),
-        m,
-        c,
-        kvw,
         cvw,
         s_dense: dense_of_rows(&sparse_rows(&s), 3 * nw),
         s_rows: sparse_rows(&s),
         h,
+        e_state,
+        e_rail,
+        g_tr,
     }
 }
 
