@@ -1025,9 +1025,13 @@ struct Work {
     rails: Vec<f64>,
     /// Per wheelset, `Ψ q₁` at the end of the step ([`Monolithic::deck_motion_at_end`]).
     psi_q: Vec<Vector3<f64>>,
+    /// Per vehicle (n values): the wind's share of `K̂⁻¹ b_v`, then the new state `v₁`.
     vm: Vec<DVector<f64>>,
+    /// Per vehicle (n values): the damping predictor `v_c = a1 v + v̇`.
     vc: Vec<DVector<f64>>,
+    /// Per vehicle (n values): `K̂⁻¹ b_v`.
     bv: Vec<DVector<f64>>,
+    /// Per vehicle (3 n_w values): `H b_v`, then `U q₁`.
     z: Vec<DVector<f64>>,
     /// Scratch of [`ModalBridge::rail_shapes_lanes`].
     lanes: Vec<[f64; SHAPE_LANES]>,
