@@ -53,10 +53,8 @@ struct VehicleCache {
     chol: Option<SparseCholesky>,
     /// `C_vw` of each wheelset, sparse (`C_vwᵀ v_c` in the bridge's right-hand side).
     cvw: Vec<Csr>,
-    /// The non-zero entries of S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w) by row (empty when S = 0).
-    s_rows: Vec<Vec<(usize, f64)>>,
-    /// The same entries as a dense 3n_w × 3n_w matrix, column after column (zeros elsewhere;
-    /// empty when S = 0).
+    /// S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w), column after column, its structural zeros exact
+    /// ([`structural`]; empty when S = 0).
     s_dense: Vec<f64>,
     /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
     h: DMatrix<f64>,
@@ -791,8 +789,8 @@ impl Monolithic {
         for &i in vehicles {
             let f0 = self.first_ws[i];
             let nwi = self.train.vehicles[i].model.wheelsets.len();
-            let rows = &self.cache[i].s_rows;
-            if rows.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+            let s = &self.cache[i].s_dense;
+            if s.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
                 continue;
             }
             // u[r nb + n] = U[r, n], rail DOF r = 3 l + k of wheelset l
@@ -806,18 +804,18 @@ impl Monolithic {
                     }
                 }
             }
-            su.clear();
-            su.resize(3 * nwi * nb, 0.0);
-            for (r, row) in rows.iter().enumerate() {
-                let out = &mut su[r * nb..(r + 1) * nb];
-                for &(c, v) in row {
-                    crate::simd::axpy(out, v, &u[c * nb..(c + 1) * nb]);
-                }
-            }
-            // the upper triangle (rows 0..=j of column j), mirrored below at the end: column j
-            // takes Σ_r (S U)[r, j] U[r, 0..=j] over the rail DOFs r in order (a zero
-            // coefficient adds an exact zero: the shapes are finite)
+            // (S U)[r] = Σ_c S[r, c] U[c] over the rail DOFs c in order, and the upper
+            // triangle (rows 0..=j of column j), mirrored below at the end: column j takes
+            // Σ_r (S U)[r, j] U[r, 0..=j] over the rail DOFs r in order (a zero coefficient
+            // adds an exact zero: the shapes are finite)
             let m = 3 * nwi;
+            su.clear();
+            su.resize(m * nb, 0.0);
+            for (r, out) in su.chunks_exact_mut(nb).enumerate() {
+                coeffs.clear();
+                coeffs.extend((0..m).map(|c| s[c * m + r]));
+                crate::simd::axpy_columns_strided(out, &coeffs, &u, nb);
+            }
             for (j, col) in a.chunks_exact_mut(nb).enumerate() {
                 coeffs.clear();
                 coeffs.extend((0..m).map(|r| su[r * nb + j]));
@@ -1120,8 +1118,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         return VehicleCache {
             chol: None,
             cvw,
-            s_dense: dense_of_rows(&sparse_rows(&s), 3 * nw),
-            s_rows: sparse_rows(&s),
+            s_dense: structural(&s),
             h: DMatrix::zeros(3 * nw, 0),
             e_state: Vec::new(),
             e_rail: Vec::new(),
@@ -1163,8 +1160,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     VehicleCache {
         chol: Some(SparseCholesky::of(&chol)),
         cvw,
-        s_dense: dense_of_rows(&sparse_rows(&s), 3 * nw),
-        s_rows: sparse_rows(&s),
+        s_dense: structural(&s),
         h,
         e_state,
         e_rail,
@@ -1172,36 +1168,17 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     }
 }
 
-/// Non-zero pattern of a small matrix (entries below 1e-14 of the largest are structural
-/// zeros of the suspension layout, e.g. between lateral and vertical rail DOFs).
-fn sparse_rows(s: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
+/// A small matrix, column after column, with the entries below 1e-14 of the largest set to
+/// exact zeros (structural zeros of the suspension layout, e.g. between lateral and vertical
+/// rail DOFs, left as round-off by the Schur complement); empty when it is zero.
+fn structural(s: &DMatrix<f64>) -> Vec<f64> {
     let tol = 1e-14 * s.amax();
     if s.amax() == 0.0 {
         return Vec::new();
     }
-    (0..s.nrows())
-        .map(|r| {
-            (0..s.ncols())
-                .filter(|&c| s[(r, c)].abs() > tol)
-                .map(|c| (c, s[(r, c)]))
-                .collect()
-        })
+    s.iter()
+        .map(|&v| if v.abs() > tol { v } else { 0.0 })
         .collect()
-}
-
-/// The rows of [`sparse_rows`] as a dense `n × n` matrix, column after column (empty for no
-/// rows).
-fn dense_of_rows(rows: &[Vec<(usize, f64)>], n: usize) -> Vec<f64> {
-    if rows.is_empty() {
-        return Vec::new();
-    }
-    let mut d = vec![0.0; n * n];
-    for (r, row) in rows.iter().enumerate() {
-        for &(c, v) in row {
-            d[c * n + r] = v;
-        }
-    }
-    d
 }
 
 #[cfg(test)]
