@@ -159,17 +159,15 @@ fn axpy_avx2(y: &mut [f64], a: f64, x: &[f64]) {
     axpy_body(y, a, x)
 }
 
-/// [`axpy_columns_body`] four rows at a time: each group of four `yᵢ` is loaded once, takes
-/// `+ aⱼ xⱼᵢ` (a product, then a sum: the same two roundings) for `j = 0, 1, …` in a register
-/// and is stored once, instead of one pass over `y` per column; the last `n mod 4` rows
-/// likewise one by one. Every `yᵢ` rounds exactly as in the column-by-column loop.
+/// [`axpy_columns_body`] sixteen rows at a time: each group of four `yᵢ` is loaded once,
+/// takes `+ aⱼ xⱼᵢ` (a product, then a sum: the same two roundings) for `j = 0, 1, …` in a
+/// register and is stored once, instead of one pass over `y` per column. Up to four groups go
+/// through the columns together, so that their sums, each a chain of dependent additions,
+/// overlap; the last `n mod 4` rows are one more group, its columns' values read as masked
+/// lanes and its `yᵢ` as scalars. Every `yᵢ` rounds exactly as in the column-by-column loop.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
-    use std::arch::x86_64::{
-        _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_maskstore_pd, _mm256_mul_pd,
-        _mm256_set1_pd, _mm256_setr_epi64x, _mm256_storeu_pd,
-    };
     let n = y.len();
     if n == 0 {
         return;
@@ -180,41 +178,91 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
     } else {
         whole_columns(a, n, columns.len(), stride)
     };
-    let rows = n - n % 4;
     let (yp, xp) = (y.as_mut_ptr(), columns.as_ptr());
     let mut i = 0;
-    while i < rows {
-        // SAFETY: rows i..i + 4 ≤ n of y and of each column j (values j·stride .. j·stride + n,
-        // inside `columns` for the columns kept above).
-        unsafe {
-            let mut acc = _mm256_loadu_pd(yp.add(i));
-            for (j, &aj) in a.iter().enumerate() {
-                let xv = _mm256_loadu_pd(xp.add(j * stride + i));
-                acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(aj), xv));
-            }
-            _mm256_storeu_pd(yp.add(i), acc);
-        }
-        i += 4;
+    // SAFETY (each call): rows i..i + 4G (+ the masked tail) ≤ n of y and of each column j
+    // (values j·stride .. j·stride + n, inside `columns` for the columns kept above).
+    while n - i >= 16 {
+        unsafe { columns_groups::<4, false>(yp.add(i), xp.add(i), a, stride, 0) };
+        i += 16;
     }
-    if rows < n {
-        // The last 1–3 rows as the masked lanes of one vector: the same products and sums
-        // per row as above, with nothing read or written past row n.
-        let r = (n - rows) as i64;
-        let mask = _mm256_setr_epi64x(
-            -1,
-            if r > 1 { -1 } else { 0 },
-            if r > 2 { -1 } else { 0 },
-            0,
-        );
-        // SAFETY: the masked lanes are rows rows..n of y and of each column kept above; the
-        // lanes masked off are neither read nor written.
-        unsafe {
-            let mut acc = _mm256_maskload_pd(yp.add(rows), mask);
-            for (j, &aj) in a.iter().enumerate() {
-                let xv = _mm256_maskload_pd(xp.add(j * stride + rows), mask);
-                acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(aj), xv));
+    let tail = n - i;
+    unsafe {
+        let (yp, xp) = (yp.add(i), xp.add(i));
+        match (tail / 4, tail % 4) {
+            (0, 0) => {}
+            (0, r) => columns_groups::<0, true>(yp, xp, a, stride, r),
+            (1, 0) => columns_groups::<1, false>(yp, xp, a, stride, 0),
+            (1, r) => columns_groups::<1, true>(yp, xp, a, stride, r),
+            (2, 0) => columns_groups::<2, false>(yp, xp, a, stride, 0),
+            (2, r) => columns_groups::<2, true>(yp, xp, a, stride, r),
+            (3, 0) => columns_groups::<3, false>(yp, xp, a, stride, 0),
+            (_, r) => columns_groups::<3, true>(yp, xp, a, stride, r),
+        }
+    }
+}
+
+/// `G` groups of four rows from `yp` (column j's from `xp + j·stride`), and with `TAIL` the
+/// `r` (1–3) rows after them as the masked lanes of one more vector (the lanes masked off
+/// are neither read nor written), each through all the columns in order.
+///
+/// # Safety
+/// Rows `0..4G` (and `4G..4G + r` with `TAIL`) from `yp` and from `xp + j·stride` for every
+/// `j < a.len()` must be valid, those from `yp` writable and not aliased.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn columns_groups<const G: usize, const TAIL: bool>(
+    yp: *mut f64,
+    xp: *const f64,
+    a: &[f64],
+    stride: usize,
+    r: usize,
+) {
+    use std::arch::x86_64::{
+        _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_setr_epi64x, _mm256_setzero_pd, _mm256_storeu_pd,
+    };
+    let mask = _mm256_setr_epi64x(
+        -1,
+        if r > 1 { -1 } else { 0 },
+        if r > 2 { -1 } else { 0 },
+        0,
+    );
+    // SAFETY: the rows the caller vouches for.
+    unsafe {
+        let mut acc = [_mm256_setzero_pd(); G];
+        for (g, acc) in acc.iter_mut().enumerate() {
+            *acc = _mm256_loadu_pd(yp.add(4 * g));
+        }
+        // the tail's rows of y through memory as scalars, which a store just before forwards
+        let mut tail = [0.0; 4];
+        if TAIL {
+            for (k, t) in tail.iter_mut().enumerate().take(r) {
+                *t = *yp.add(4 * G + k);
             }
-            _mm256_maskstore_pd(yp.add(rows), mask, acc);
+        }
+        let mut last = _mm256_loadu_pd(tail.as_ptr());
+        for (j, &aj) in a.iter().enumerate() {
+            let s = _mm256_set1_pd(aj);
+            let col = xp.add(j * stride);
+            for (g, acc) in acc.iter_mut().enumerate() {
+                let xv = _mm256_loadu_pd(col.add(4 * g));
+                *acc = _mm256_add_pd(*acc, _mm256_mul_pd(s, xv));
+            }
+            if TAIL {
+                let xv = _mm256_maskload_pd(col.add(4 * G), mask);
+                last = _mm256_add_pd(last, _mm256_mul_pd(s, xv));
+            }
+        }
+        for (g, acc) in acc.iter().enumerate() {
+            _mm256_storeu_pd(yp.add(4 * g), *acc);
+        }
+        if TAIL {
+            _mm256_storeu_pd(tail.as_mut_ptr(), last);
+            for (k, t) in tail.iter().enumerate().take(r) {
+                *yp.add(4 * G + k) = *t;
+            }
         }
     }
 }
@@ -254,7 +302,7 @@ mod tests {
 
     #[test]
     fn both_builds_give_bitwise_the_same_results() {
-        for n in [0, 1, 2, 3, 14, 15, 16, 17, 27, 60, 61] {
+        for n in [0, 1, 2, 3, 5, 8, 12, 14, 15, 16, 17, 20, 27, 31, 33, 60, 61] {
             let x = values(n, 0.3);
             let (mut a, mut b) = (values(n, 1.7), values(n, 1.7));
             axpy_body(&mut a, 0.377, &x);
