@@ -27,7 +27,8 @@ pub struct Declared {
 }
 
 /// For each of `outputs` (same order), the `knowns` it depends on (in `knowns` order).
-/// `delta(vr, value)` is the perturbation of a known at its current value. The model is
+/// `delta(vr, value)` is the perturbation of a known at its current value, added, or
+/// subtracted where the model refuses the sum (a known at the top of its range). The model is
 /// left in the state it was given in.
 pub fn probe<M: FmuModel>(
     model: &mut M,
@@ -48,7 +49,14 @@ pub fn probe<M: FmuModel>(
     for &k in knowns {
         model.clone_from(&snapshot);
         let v = model.get_real(k)?;
-        model.set_real(k, v + delta(k, v), phase)?;
+        let d = delta(k, v);
+        // a known at the top of its range (a train at its highest speed, say) is moved down
+        if model.set_real(k, v + d, phase).is_err() {
+            model.clone_from(&snapshot);
+            model.set_real(k, v - d, phase).map_err(|e| {
+                format!("value reference {k} = {v} can be moved neither up nor down by {d}: {e}")
+            })?;
+        }
         for (d, (now, was)) in deps.iter_mut().zip(read(model)?.iter().zip(&base)) {
             if now != was {
                 d.push(k);

@@ -343,3 +343,44 @@ fn the_tsing_ma_bridge_declares_the_dependencies_finite_differences_find() {
     }
     .check("bridge");
 }
+
+/// A train at the highest speed accepted (720 km/h = 200 m/s): the exporter's probe of the
+/// train's `speed` parameter moves it down, as moving it up would leave the range, and the
+/// wheelsets' initial speeds are declared to depend on it (their initial positions do not).
+#[test]
+fn a_train_at_the_highest_speed_exports_with_its_speed_dependencies() {
+    let toml = common::scenarios::coach2().replace("speed_kmh = 200.0", "speed_kmh = 720.0");
+    assert!(toml.contains("speed_kmh = 720.0"), "the case's speed line");
+    let e = export("dependencies-top-speed", &toml);
+    let train = Fmu::load(&e.train).unwrap();
+    let md = train.model_description();
+    let index_of = |name: &str| {
+        1 + md
+            .model_variables
+            .iter()
+            .position(|v| v.name == name)
+            .unwrap_or_else(|| panic!("no variable {name}")) as u32
+    };
+    let speed = index_of("speed");
+    let v = md
+        .model_variables
+        .iter()
+        .find(|v| v.name == "speed")
+        .and_then(|v| match &v.kind {
+            model_description::VariableKind::Real(r) => r.start,
+            _ => None,
+        })
+        .expect("speed has a start value");
+    assert_eq!(v, 200.0, "speed start value, m/s");
+    for (name, depends) in [("ws[1].vx", true), ("ws[8].vx", true), ("ws[1].x", false)] {
+        let i = index_of(name);
+        let unknown = (md.model_structure.initial_unknowns.iter())
+            .find(|u| u.index == i)
+            .unwrap_or_else(|| panic!("{name} is no initial unknown"));
+        let deps = unknown
+            .dependencies
+            .as_ref()
+            .expect("declared dependencies");
+        assert_eq!(deps.contains(&speed), depends, "{name} on speed: {deps:?}");
+    }
+}
