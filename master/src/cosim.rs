@@ -140,11 +140,12 @@ pub fn run_cosim<W: std::io::Write>(
     rec: &mut Recorder<W>,
     show_progress: bool,
 ) -> Result<CouplingSummary, Box<dyn std::error::Error>> {
-    // One co-simulation code path: the FMUs are run as the exported SSP system, as
-    // `tbi cosim system.ssp` runs it.
+    // One co-simulation code path: the FMUs are run as the exported SSP system (its
+    // description, with the FMUs written beside the archive), as `tbi cosim system.ssp`
+    // runs it.
     let exported = crate::export::export_with(model, cfg, fmu_dir, true)?;
     let t_end = model.t_end();
-    let open = crate::ssp::open(&exported.ssp)?;
+    let open = crate::ssp::open_exported(&exported.ssd, &exported.ssp)?;
     let mut sys = crate::ssp::wire(&open, &[], 0.0, t_end)?.system;
     let mut scheme = build_scheme(cfg);
     scheme.initialize(&mut sys)?;

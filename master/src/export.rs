@@ -46,6 +46,9 @@ pub struct Exported {
     pub bridge: PathBuf,
     pub train: PathBuf,
     pub ssp: PathBuf,
+    /// The system description `ssp` holds (`SystemStructure.ssd`; empty when no SSP was
+    /// written).
+    pub ssd: String,
     pub bridge_guid: String,
     pub train_guid: String,
     pub bridge_resources: BridgeResources,
@@ -364,6 +367,7 @@ pub fn export_with(
         None => None,
     };
     let ssp = out.join("system.ssp");
+    let mut ssd = String::new();
     if with_ssp {
         let mut parts = vec![
             (
@@ -381,12 +385,13 @@ pub fn export_with(
             parts.push((Side::Wind, path.clone(), layout.variables(res)));
         }
         let links = connections(&bridge_layout, &train_layout, wind.as_ref().map(|w| &w.2))?;
-        write_ssp(&ssp, &parts, &links, stop, (coupling, model.dt))?;
+        ssd = write_ssp(&ssp, &parts, &links, stop, (coupling, model.dt))?;
     }
     Ok(Exported {
         bridge: bridge_path,
         train: train_path,
         ssp,
+        ssd,
         bridge_guid,
         train_guid,
         bridge_resources: bridge_res,
@@ -578,13 +583,15 @@ fn xml_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// Writes the system archive (unless the one at `path` is current) and returns its
+/// description.
 fn write_ssp(
     path: &Path,
     parts: &[(Side, PathBuf, Vec<Var>)],
     links: &[Link],
     stop: f64,
     (coupling, step): (&CouplingConfig, f64),
-) -> Result<(), String> {
+) -> Result<String, String> {
     let annotation: String = coupling
         .attributes()
         .iter()
@@ -647,11 +654,11 @@ fn write_ssp(
                 .map_err(|e| format!("{}: {e}", fmu.display()))
         })
         .collect::<Result<_, _>>()?;
-    if ssp_is_current(path, &ssd, &fmus) {
-        return Ok(());
+    if !ssp_is_current(path, &ssd, &fmus) {
+        // the system is complete or untouched
+        crate::outdir::replace_atomically(path, |tmp| write_ssp_zip(tmp, &ssd, &fmus))?;
     }
-    // the system is complete or untouched
-    crate::outdir::replace_atomically(path, |tmp| write_ssp_zip(tmp, &ssd, &fmus))
+    Ok(ssd)
 }
 
 /// The SSP archive: the description, deflated, and the FMUs (zip archives already) stored.

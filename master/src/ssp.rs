@@ -273,6 +273,31 @@ pub fn open(path: &Path) -> Result<OpenSystem, String> {
     })
 }
 
+/// The system just exported to `ssp` with description `ssd` (the text the archive holds),
+/// its components' FMUs read where the exporter wrote them beside the archive (the archive's
+/// `resources/<name>.fmu` is `<name>.fmu` in the archive's folder), so that the archive is
+/// not unpacked only to copy them out again. Everything after the opening is the path
+/// `open` leads to.
+pub fn open_exported(ssd: &str, ssp: &Path) -> Result<OpenSystem, String> {
+    let origin = ssp.display().to_string();
+    let mut ssd = parse_ssd(ssd, &format!("{origin}: SystemStructure.ssd"))?;
+    for c in &mut ssd.components {
+        let Some(file) = c.source.strip_prefix("resources/") else {
+            return Err(format!(
+                "{origin}: component \"{}\": source {} is not an exported FMU",
+                c.name, c.source
+            ));
+        };
+        c.source = file.to_owned();
+    }
+    Ok(OpenSystem {
+        ssd,
+        base: ssp.parent().map(Path::to_path_buf).unwrap_or_default(),
+        _unpacked: None,
+        origin,
+    })
+}
+
 impl OpenSystem {
     /// The coupling options of the annotation.
     pub fn coupling(&self) -> Result<(CouplingConfig, Option<f64>), String> {
