@@ -86,13 +86,21 @@ pub fn check_binary(path: &Path) -> Result<(), String> {
     )) {
         return Ok(());
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    use std::io::{Read, Seek, SeekFrom};
+    let cannot = |e: std::io::Error| format!("cannot read {}: {e}", path.display());
+    // the header and the program headers are read, not the whole file
+    let mut file = std::fs::File::open(path).map_err(cannot)?;
+    let len = file.metadata().map_err(cannot)?.len();
+    let mut bytes = Vec::with_capacity(64);
+    (&mut file)
+        .take(64)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
     let what = |why: String| format!("{} is not a loadable shared object: {why}", path.display());
     if bytes.len() < 64 || &bytes[..4] != b"\x7fELF" {
         let head: Vec<String> = bytes.iter().take(4).map(|b| format!("{b:02x}")).collect();
         return Err(what(format!(
-            "no ELF header (the file is {} bytes and starts with {})",
-            bytes.len(),
+            "no ELF header (the file is {len} bytes and starts with {})",
             if head.is_empty() {
                 "nothing".to_owned()
             } else {
@@ -101,11 +109,12 @@ pub fn check_binary(path: &Path) -> Result<(), String> {
         )));
     }
     let u16_at = |o: usize| u16::from_le_bytes([bytes[o], bytes[o + 1]]);
-    let u64_at = |o: usize| -> u64 {
-        bytes.get(o..o + 8).map_or(u64::MAX, |b| {
+    let u64_of = |b: &[u8], o: usize| -> u64 {
+        b.get(o..o + 8).map_or(u64::MAX, |b| {
             u64::from_le_bytes(b.try_into().expect("8 bytes"))
         })
     };
+    let u64_at = |o: usize| u64_of(&bytes, o);
     if bytes[4] != 2 || bytes[5] != 1 {
         return Err(what("not a 64-bit little-endian ELF file".into()));
     }
@@ -131,17 +140,20 @@ pub fn check_binary(path: &Path) -> Result<(), String> {
             )));
         }
     }
-    let len = bytes.len() as u64;
     let (phoff, phentsize, phnum) = (u64_at(32), u16_at(54) as u64, u16_at(56) as u64);
     if phentsize < 56 || phoff.saturating_add(phentsize.saturating_mul(phnum)) > len {
         return Err(what(format!(
             "truncated: its program headers end past the file's {len} bytes"
         )));
     }
+    // inside the file (just checked): at most 65 535 entries of at most 65 535 bytes
+    let mut ph = vec![0; (phentsize * phnum) as usize];
+    file.seek(SeekFrom::Start(phoff)).map_err(cannot)?;
+    file.read_exact(&mut ph).map_err(cannot)?;
     for i in 0..phnum {
-        let h = (phoff + i * phentsize) as usize;
-        let kind = u32::from_le_bytes(bytes[h..h + 4].try_into().expect("4 bytes"));
-        let (offset, filesz) = (u64_at(h + 8), u64_at(h + 32));
+        let h = (i * phentsize) as usize;
+        let kind = u32::from_le_bytes(ph[h..h + 4].try_into().expect("4 bytes"));
+        let (offset, filesz) = (u64_of(&ph, h + 8), u64_of(&ph, h + 32));
         if kind == 1 && offset.saturating_add(filesz) > len {
             return Err(what(format!(
                 "truncated: loadable segment {i} ends at byte {}, the file has {len}",
