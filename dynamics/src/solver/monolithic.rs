@@ -40,7 +40,7 @@
 use super::{rail_prescribed, VehicleState, WheelForce};
 use crate::bridge::{ModalBridge, SHAPE_LANES};
 use crate::newmark::Newmark;
-use crate::sparse::{Csr, SparseCholesky};
+use crate::sparse::SparseCholesky;
 use crate::track::RailProfile;
 use crate::train::{Train, WheelsetRef};
 use crate::vehicle::LinearVehicle;
@@ -51,8 +51,9 @@ struct VehicleCache {
     /// Cholesky of K̂_v, sparse (None for vehicles without DOFs): the wind's share of
     /// `K̂⁻¹ b_v`.
     chol: Option<SparseCholesky>,
-    /// `C_vw` of each wheelset, sparse (`C_vwᵀ v_c` in the bridge's right-hand side).
-    cvw: Vec<Csr>,
+    /// `[C_vw,0 … C_vw,l …]ᵀ` (3n_w × n, column after column; the structural zeros exact):
+    /// `C_vw,lᵀ v_c` of every wheelset in the bridge's right-hand side as one product.
+    cvw_t: Vec<f64>,
     /// S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w), column after column, its structural zeros exact
     /// ([`structural`]; empty when S = 0).
     s_dense: Vec<f64>,
@@ -512,17 +513,25 @@ impl Monolithic {
                     rails.extend_from_slice((rd - pv).as_slice());
                 }
                 if on {
-                    let mut g = c.p0 - c.m_w * (rdd - pm) - c.k_ww * r - c.c_ww * (rd - pv);
+                    let g = c.p0 - c.m_w * (rdd - pm) - c.k_ww * r - c.c_ww * (rd - pv);
                     if n > 0 {
-                        // + C_vwᵀ v_c; Ψᵀ g goes in with the coupling correction below
-                        cache.cvw[l].tr_mul_add(1.0, vc.as_slice(), g.as_mut_slice());
-                        w.g[ws] = g;
+                        // + C_vwᵀ v_c after the loop; Ψᵀ g goes in with the coupling
+                        // correction below
+                        w.gv[3 * l..3 * l + 3].copy_from_slice(g.as_slice());
                     } else {
                         psi_tr_add(psi, &g, w.bq.as_mut_slice());
                     }
+                } else if n > 0 {
+                    w.gv[3 * l..3 * l + 3].fill(0.0);
                 }
             }
             if n > 0 {
+                // g_l + C_vw,lᵀ v_c of every wheelset at once (those off the deck unused)
+                let gv = &mut w.gv[..r3];
+                crate::simd::axpy_columns(gv, vc.as_slice(), &cache.cvw_t);
+                for l in 0..model.wheelsets.len() {
+                    w.g[f0 + l] = Vector3::new(gv[3 * l], gv[3 * l + 1], gv[3 * l + 2]);
+                }
                 crate::simd::axpy_columns(y.as_mut_slice(), rails, &cache.e_rail);
                 // Ψᵀ (g − z_l) per wheelset on the deck, z = H b_v = Ĝᵀ y
                 let z = &mut w.z[i];
@@ -1042,6 +1051,8 @@ struct Work {
     /// Per wheelset on the deck: its force's share of the bridge's right-hand side before the
     /// vehicle's coupling correction (`g`), applied with it in one pass.
     g: Vec<Vector3<f64>>,
+    /// One vehicle's `g_l + C_vw,lᵀ v_c`, its wheelsets' one after the other (3 n_w).
+    gv: Vec<f64>,
     /// The wheelsets and vehicles the step visits, ascending ([`Monolithic::update_geometry`]).
     busy: Vec<usize>,
     busy_vehicles: Vec<usize>,
@@ -1097,6 +1108,7 @@ impl Work {
             deck: Vec::new(),
             pred: vec![[Vector3::zeros(); 2]; train.wheelsets().len()],
             g: vec![Vector3::zeros(); train.wheelsets().len()],
+            gv: vec![0.0; wmax],
             busy: Vec::new(),
             busy_vehicles: Vec::new(),
             flat_before: false,
@@ -1113,11 +1125,15 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         let w_hat = nm.a0 * c.m_w + nm.a1 * c.c_ww + c.k_ww;
         s.view_mut((3 * l, 3 * l), (3, 3)).copy_from(&w_hat);
     }
-    let cvw: Vec<Csr> = model.wheelsets.iter().map(|w| Csr::of(&w.c_vw)).collect();
+    let mut cvw = DMatrix::zeros(n, 3 * nw);
+    for (l, c) in model.wheelsets.iter().enumerate() {
+        cvw.columns_mut(3 * l, 3).copy_from(&c.c_vw);
+    }
+    let cvw_t = cvw.transpose().as_slice().to_vec();
     if n == 0 {
         return VehicleCache {
             chol: None,
-            cvw,
+            cvw_t,
             s_dense: structural(&s),
             h: DMatrix::zeros(3 * nw, 0),
             e_state: Vec::new(),
@@ -1159,7 +1175,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     let g_tr = g.transpose().as_slice().to_vec();
     VehicleCache {
         chol: Some(SparseCholesky::of(&chol)),
-        cvw,
+        cvw_t,
         s_dense: structural(&s),
         h,
         e_state,
