@@ -923,12 +923,16 @@ fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
 /// psi[l nb + n][k]`, zeros for the wheelsets `on(l)` rejects.
 fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut Vec<f64>) {
     let r = 3 * (psi.len() / nb.max(1));
-    u.clear();
+    // every entry is written below: the block is not cleared first
     u.resize(nb * r, 0.0);
     for (l, shapes) in psi.chunks_exact(nb.max(1)).enumerate() {
         if on(l) {
             for (n, p) in shapes.iter().enumerate() {
                 u[n * r + 3 * l..n * r + 3 * l + 3].copy_from_slice(p);
+            }
+        } else {
+            for n in 0..nb {
+                u[n * r + 3 * l..n * r + 3 * l + 3].fill(0.0);
             }
         }
     }
@@ -1202,7 +1206,8 @@ mod tests {
     use super::*;
 
     /// A vehicle's gathered block gives each wheelset's `Ψ q` bit for bit as one [`psi_mul`]
-    /// per wheelset does, for one to nine wheelsets, and zeros for the wheelsets left out.
+    /// per wheelset does, for one to nine wheelsets, and zeros for the wheelsets left out
+    /// (also where the block held them before).
     #[test]
     fn a_gathered_block_gives_each_wheelsets_product() {
         let nb = 23;
@@ -1218,7 +1223,9 @@ mod tests {
             .collect();
         for nw in 1..=9 {
             let psi: Vec<[f64; 3]> = (0..nw * nb).map(|_| [next(), next(), next()]).collect();
+            // the block of an earlier step, all wheelsets in, is reused
             let (mut u, mut out) = (Vec::new(), vec![f64::NAN; 3 * nw]);
+            gather_block(&psi, nb, |_| true, &mut u);
             gather_block(&psi, nb, |l| l != 1, &mut u);
             block_mul(&u, &q, &mut out);
             for l in 0..nw {
