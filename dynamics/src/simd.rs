@@ -30,6 +30,19 @@ pub fn axpy_columns(y: &mut [f64], a: &[f64], columns: &[f64]) {
     axpy_columns_strided(y, a, columns, y.len())
 }
 
+/// `y ← Σⱼ aⱼ xⱼ`: [`axpy_columns`] from `y = 0`, bit for bit as `y.fill(0.0)` before it, the
+/// sums starting from zero in registers instead of from a cleared `y` in memory.
+#[inline]
+pub fn mul_columns(y: &mut [f64], a: &[f64], columns: &[f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked just above).
+        return unsafe { axpy_columns_avx2(y, a, columns, y.len(), true) };
+    }
+    y.fill(0.0);
+    axpy_columns_body(y, a, columns, y.len())
+}
+
 /// [`axpy_columns`] with column `j` the `y.len()` values from `j · stride` of `columns`
 /// (`stride ≥ y.len()`): `y ← y + Σⱼ aⱼ xⱼ`, added in order `j = 0, 1, …` over the columns
 /// that `columns` holds whole.
@@ -43,7 +56,7 @@ pub fn axpy_columns_strided(y: &mut [f64], a: &[f64], columns: &[f64], stride: u
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2 (checked just above).
-        return unsafe { axpy_columns_avx2(y, a, columns, stride) };
+        return unsafe { axpy_columns_avx2(y, a, columns, stride, false) };
     }
     axpy_columns_body(y, a, columns, stride)
 }
@@ -165,9 +178,10 @@ fn axpy_avx2(y: &mut [f64], a: f64, x: &[f64]) {
 /// through the columns together, so that their sums, each a chain of dependent additions,
 /// overlap; the last `n mod 4` rows are one more group, its columns' values read as masked
 /// lanes and its `yᵢ` as scalars. Every `yᵢ` rounds exactly as in the column-by-column loop.
+/// With `zero` the sums start from zero instead of from `y` (which is not read).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
+fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize, zero: bool) {
     let n = y.len();
     if n == 0 {
         return;
@@ -183,7 +197,7 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
     // SAFETY (each call): rows i..i + 4G (+ the masked tail) ≤ n of y and of each column j
     // (values j·stride .. j·stride + n, inside `columns` for the columns kept above).
     while n - i >= 16 {
-        unsafe { columns_groups::<4, false>(yp.add(i), xp.add(i), a, stride, 0) };
+        unsafe { columns_groups::<4, false>(yp.add(i), xp.add(i), a, stride, 0, zero) };
         i += 16;
     }
     let tail = n - i;
@@ -191,20 +205,21 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize) {
         let (yp, xp) = (yp.add(i), xp.add(i));
         match (tail / 4, tail % 4) {
             (0, 0) => {}
-            (0, r) => columns_groups::<0, true>(yp, xp, a, stride, r),
-            (1, 0) => columns_groups::<1, false>(yp, xp, a, stride, 0),
-            (1, r) => columns_groups::<1, true>(yp, xp, a, stride, r),
-            (2, 0) => columns_groups::<2, false>(yp, xp, a, stride, 0),
-            (2, r) => columns_groups::<2, true>(yp, xp, a, stride, r),
-            (3, 0) => columns_groups::<3, false>(yp, xp, a, stride, 0),
-            (_, r) => columns_groups::<3, true>(yp, xp, a, stride, r),
+            (0, r) => columns_groups::<0, true>(yp, xp, a, stride, r, zero),
+            (1, 0) => columns_groups::<1, false>(yp, xp, a, stride, 0, zero),
+            (1, r) => columns_groups::<1, true>(yp, xp, a, stride, r, zero),
+            (2, 0) => columns_groups::<2, false>(yp, xp, a, stride, 0, zero),
+            (2, r) => columns_groups::<2, true>(yp, xp, a, stride, r, zero),
+            (3, 0) => columns_groups::<3, false>(yp, xp, a, stride, 0, zero),
+            (_, r) => columns_groups::<3, true>(yp, xp, a, stride, r, zero),
         }
     }
 }
 
 /// `G` groups of four rows from `yp` (column j's from `xp + j·stride`), and with `TAIL` the
 /// `r` (1–3) rows after them as the masked lanes of one more vector (the lanes masked off
-/// are neither read nor written), each through all the columns in order.
+/// are neither read nor written), each through all the columns in order, from zero instead
+/// of from the rows of `y` with `zero`.
 ///
 /// # Safety
 /// Rows `0..4G` (and `4G..4G + r` with `TAIL`) from `yp` and from `xp + j·stride` for every
@@ -218,6 +233,7 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
     a: &[f64],
     stride: usize,
     r: usize,
+    zero: bool,
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
@@ -232,12 +248,14 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
     // SAFETY: the rows the caller vouches for.
     unsafe {
         let mut acc = [_mm256_setzero_pd(); G];
-        for (g, acc) in acc.iter_mut().enumerate() {
-            *acc = _mm256_loadu_pd(yp.add(4 * g));
+        if !zero {
+            for (g, acc) in acc.iter_mut().enumerate() {
+                *acc = _mm256_loadu_pd(yp.add(4 * g));
+            }
         }
         // the tail's rows of y through memory as scalars, which a store just before forwards
         let mut tail = [0.0; 4];
-        if TAIL {
+        if TAIL && !zero {
             for (k, t) in tail.iter_mut().enumerate().take(r) {
                 *t = *yp.add(4 * G + k);
             }
@@ -325,6 +343,14 @@ mod tests {
                 assert!(
                     c.iter().zip(&d).all(|(c, d)| c.to_bits() == d.to_bits()),
                     "axpy_columns, n = {n}, m = {m}"
+                );
+                // from zero: as a cleared y, whatever y held (not read)
+                let (mut z, mut w) = (vec![0.0; n], vec![f64::NAN; n]);
+                axpy_columns(&mut z, &coeffs, &cols);
+                mul_columns(&mut w, &coeffs, &cols);
+                assert!(
+                    z.iter().zip(&w).all(|(z, w)| z.to_bits() == w.to_bits()),
+                    "mul_columns, n = {n}, m = {m}"
                 );
                 // the first n - 2 values of each column, columns n apart
                 let k = n.saturating_sub(2);

@@ -468,8 +468,7 @@ impl Monolithic {
                 for part in [&vs.v, &vs.vd, &vs.vdd] {
                     state.extend_from_slice(part.as_slice());
                 }
-                y.fill(0.0);
-                crate::simd::axpy_columns(y.as_mut_slice(), state, &cache.e_state);
+                crate::simd::mul_columns(y.as_mut_slice(), state, &cache.e_state);
                 for k in 0..n {
                     vc[k] = nm.damp_pred(vs.v[k], vs.vd[k]);
                 }
@@ -535,8 +534,7 @@ impl Monolithic {
                 crate::simd::axpy_columns(y.as_mut_slice(), rails, &cache.e_rail);
                 // Ψᵀ (g − z_l) per wheelset on the deck, z = H b_v = Ĝᵀ y
                 let z = &mut w.z[i];
-                z.fill(0.0);
-                crate::simd::axpy_columns(z.as_mut_slice(), y.as_slice(), &cache.g_tr);
+                crate::simd::mul_columns(z.as_mut_slice(), y.as_slice(), &cache.g_tr);
                 for l in 0..model.wheelsets.len() {
                     let ws = f0 + l;
                     if self.on[ws] {
@@ -641,8 +639,7 @@ impl Monolithic {
             let r = 3 * nwi;
             let (ux, sx) = (&mut ux[..r], &mut sx[..r]);
             block_mul(u, x, ux);
-            sx.fill(0.0);
-            crate::simd::axpy_columns(sx, ux, &self.cache[i].s_dense);
+            crate::simd::mul_columns(sx, ux, &self.cache[i].s_dense);
             for l in 0..nwi {
                 let ws = f0 + l;
                 if self.on[ws] {
@@ -941,8 +938,7 @@ fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut
 /// `out = U x` for a gathered block `u` ([`gather_block`]): each value summed over the modes
 /// in order, from zero (as one wheelset's `Ψ q` sums them).
 fn block_mul(u: &[f64], x: &[f64], out: &mut [f64]) {
-    out.fill(0.0);
-    crate::simd::axpy_columns(out, x, u);
+    crate::simd::mul_columns(out, x, u);
 }
 
 /// `Ψ a`, `Ψ b`, `Ψ c` in one pass over Ψ (each sum over the modes in order).
@@ -993,8 +989,7 @@ fn spd_inverse(mut a: DMatrix<f64>) -> Option<DMatrix<f64>> {
 
 /// `y = A x` for a square column-major `A`, column by column.
 fn dense_mul(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
-    y.fill(0.0);
-    crate::simd::axpy_columns(y, x, a.as_slice());
+    crate::simd::mul_columns(y, x, a.as_slice());
 }
 
 /// `out += Ψᵀ f` (one wheelset's generalised forces).
