@@ -7,9 +7,10 @@
 //! `a·x + y` into a fused multiply-add), so the wider
 //! vectors change only how many elements one instruction updates, not a single rounding:
 //! both builds give bitwise the same results (tested below). The AVX2 form of
-//! [`axpy_columns_strided`] is written out with intrinsics: it keeps four elements in a
-//! register through all the columns instead of passing over `y` once per column, the same
-//! product and sum per element and column, in column order.
+//! [`axpy_columns_strided`] (and of [`mul_columns`], its sums started from zero) is written
+//! out with intrinsics: it keeps up to sixteen elements in four registers through all the
+//! columns instead of passing over `y` once per column, the same product and sum per
+//! element and column, in column order.
 
 /// `y ← y + a x` (over the shorter of the two).
 #[inline]
