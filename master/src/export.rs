@@ -461,8 +461,8 @@ fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
         Ok(b) => (b.size(), b.crc32()),
         Err(_) => return false,
     };
-    std::fs::read(so)
-        .map(|cur| cur.len() as u64 == size && crc32fast::hash(&cur) == crc)
+    length_and_crc(so)
+        .map(|(len, c)| len == size && c == crc)
         .unwrap_or(false)
 }
 
@@ -646,15 +646,24 @@ fn write_ssp(
         conns,
         crate::ssp::COUPLING_ANNOTATION,
     );
-    let fmus: Vec<(String, Vec<u8>)> = parts
+    let entry = |side: &Side| format!("resources/{}.fmu", side.name());
+    let identities: Vec<(String, u64, u32)> = parts
         .iter()
         .map(|(side, fmu, _)| {
-            std::fs::read(fmu)
-                .map(|bytes| (format!("resources/{}.fmu", side.name()), bytes))
+            length_and_crc(fmu)
+                .map(|(len, crc)| (entry(side), len, crc))
                 .map_err(|e| format!("{}: {e}", fmu.display()))
         })
         .collect::<Result<_, _>>()?;
-    if !ssp_is_current(path, &ssd, &fmus) {
+    if !ssp_is_current(path, &ssd, &identities) {
+        let fmus: Vec<(String, Vec<u8>)> = parts
+            .iter()
+            .map(|(side, fmu, _)| {
+                std::fs::read(fmu)
+                    .map(|bytes| (entry(side), bytes))
+                    .map_err(|e| format!("{}: {e}", fmu.display()))
+            })
+            .collect::<Result<_, _>>()?;
         // the system is complete or untouched
         crate::outdir::replace_atomically(path, |tmp| write_ssp_zip(tmp, &ssd, &fmus))?;
     }
@@ -679,9 +688,31 @@ fn write_ssp_zip(path: &Path, ssd: &str, fmus: &[(String, Vec<u8>)]) -> std::io:
     z.finish()?.flush()
 }
 
-/// Whether the SSP at `path` has this description and these FMUs (each compared by its
-/// length and the CRC-32 the archive's directory records), so that it need not be written.
-fn ssp_is_current(path: &Path, ssd: &str, fmus: &[(String, Vec<u8>)]) -> bool {
+/// The length of the file at `path` and its CRC-32, read through a small buffer (a file of
+/// megabytes is not held in memory for it).
+fn length_and_crc(path: &Path) -> std::io::Result<(u64, u32)> {
+    use std::io::Read;
+    let mut file = std::fs::File::open(path)?;
+    let mut hasher = crc32fast::Hasher::new();
+    let mut buffer = vec![0; 1 << 16];
+    let mut len = 0u64;
+    loop {
+        match file.read(&mut buffer) {
+            Ok(0) => return Ok((len, hasher.finalize())),
+            Ok(n) => {
+                hasher.update(&buffer[..n]);
+                len += n as u64;
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// Whether the SSP at `path` has this description and these FMUs (entry name, length and
+/// CRC-32 of each, compared with those the archive's directory records), so that it need
+/// not be written.
+fn ssp_is_current(path: &Path, ssd: &str, fmus: &[(String, u64, u32)]) -> bool {
     use std::io::Read;
     let archive = std::fs::File::open(path).map(zip::ZipArchive::new);
     let Ok(Ok(mut z)) = archive else {
@@ -695,10 +726,9 @@ fn ssp_is_current(path: &Path, ssd: &str, fmus: &[(String, Vec<u8>)]) -> bool {
         .by_name("SystemStructure.ssd")
         .is_ok_and(|mut e| e.read_to_string(&mut text).is_ok() && text == ssd);
     same_ssd
-        && fmus.iter().all(|(name, bytes)| {
-            z.by_name(name).is_ok_and(|e| {
-                e.size() == bytes.len() as u64 && e.crc32() == crc32fast::hash(bytes)
-            })
+        && fmus.iter().all(|(name, len, crc)| {
+            z.by_name(name)
+                .is_ok_and(|e| e.size() == *len && e.crc32() == *crc)
         })
 }
 
@@ -715,24 +745,55 @@ mod tests {
             ("resources/a.fmu".to_owned(), b"first archive".to_vec()),
             ("resources/b.fmu".to_owned(), b"second".to_vec()),
         ];
-        assert!(!ssp_is_current(&path, "<ssd/>", &fmus), "no file yet");
+        // each FMU's identity as the export takes it, from its file
+        let ids = |fmus: &[(String, Vec<u8>)]| -> Vec<(String, u64, u32)> {
+            fmus.iter()
+                .map(|(name, bytes)| {
+                    let file = dir.path().join("fmu");
+                    std::fs::write(&file, bytes).unwrap();
+                    let (len, crc) = length_and_crc(&file).unwrap();
+                    (name.clone(), len, crc)
+                })
+                .collect()
+        };
+        assert!(!ssp_is_current(&path, "<ssd/>", &ids(&fmus)), "no file yet");
         write_ssp_zip(&path, "<ssd/>", &fmus).unwrap();
-        assert!(ssp_is_current(&path, "<ssd/>", &fmus));
+        assert!(ssp_is_current(&path, "<ssd/>", &ids(&fmus)));
         assert!(
-            !ssp_is_current(&path, "<ssd />", &fmus),
+            !ssp_is_current(&path, "<ssd />", &ids(&fmus)),
             "another description"
         );
         let mut changed = fmus.clone();
         changed[1].1 = b"secone".to_vec(); // same length, other bytes
-        assert!(!ssp_is_current(&path, "<ssd/>", &changed));
+        assert!(!ssp_is_current(&path, "<ssd/>", &ids(&changed)));
         assert!(
-            !ssp_is_current(&path, "<ssd/>", &fmus[..1]),
+            !ssp_is_current(&path, "<ssd/>", &ids(&fmus[..1])),
             "one FMU fewer"
         );
         let mut more = fmus.clone();
         more.push(("resources/c.fmu".to_owned(), Vec::new()));
-        assert!(!ssp_is_current(&path, "<ssd/>", &more), "one FMU more");
+        assert!(
+            !ssp_is_current(&path, "<ssd/>", &ids(&more)),
+            "one FMU more"
+        );
         std::fs::write(&path, b"not a zip").unwrap();
-        assert!(!ssp_is_current(&path, "<ssd/>", &fmus));
+        assert!(!ssp_is_current(&path, "<ssd/>", &ids(&fmus)));
+    }
+
+    /// A file's length and CRC-32 through the buffer equal those of its bytes at once, also
+    /// for a file several buffers long and for an empty one.
+    #[test]
+    fn a_files_length_and_crc_equal_its_bytes() {
+        let dir = UnpackedDir::create("tbi-export-crc").unwrap();
+        for n in [0usize, 1, 65_535, 65_536, 200_003] {
+            let bytes: Vec<u8> = (0..n).map(|i| (i * 7 + i / 251) as u8).collect();
+            let file = dir.path().join(format!("f{n}"));
+            std::fs::write(&file, &bytes).unwrap();
+            assert_eq!(
+                length_and_crc(&file).unwrap(),
+                (n as u64, crc32fast::hash(&bytes)),
+                "{n} bytes"
+            );
+        }
     }
 }
