@@ -429,8 +429,8 @@ impl Packaging<'_> {
         let caps = fmi_export::capabilities_of::<M>();
         let xml = description_xml(id, guid, what, vars, &dependencies()?, (stop, step), caps)?;
         let doc = DOC.replace("{TITLE}", id).replace("{WHAT}", what);
-        write_fmu(path, &xml, id, &so, &files(), Some(&doc))
-            .map_err(|e| format!("{}: {e}", path.display()))
+        // the error names the file
+        write_fmu(path, &xml, id, &so, &files(), Some(&doc)).map_err(|e| e.to_string())
     }
 }
 

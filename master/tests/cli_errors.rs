@@ -719,3 +719,25 @@ fn cli_failed_cosim_leaves_partial_results() {
         "partial co-simulation rows vs monolithic",
     );
 }
+
+/// An FMU the co-simulation cannot write (its path is a folder): the run fails with the
+/// error naming that path once, before any step.
+#[test]
+fn cli_an_fmu_that_cannot_be_written_is_named_once() {
+    require_fmu_libraries();
+    let dir = scratch("unwritable-fmu");
+    let path = Scenario::from_data("stiff-20m.toml").write(&dir, "case.toml");
+    let out = dir.join("cosim");
+    let blocked = out.join("fmus").join("bridge.fmu");
+    std::fs::create_dir_all(&blocked).unwrap();
+    let r = run(&path, "cosim", &out, &[]);
+    assert_eq!(r.status.code(), Some(1), "stderr:\n{}", r.stderr);
+    let named = blocked.display().to_string();
+    assert!(
+        r.stderr
+            .contains(&format!("{named}: cannot write the archive")),
+        "stderr:\n{}",
+        r.stderr
+    );
+    assert_eq!(r.stderr.matches(&named).count(), 1, "stderr:\n{}", r.stderr);
+}
