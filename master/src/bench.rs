@@ -28,7 +28,9 @@
 //! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
 //! per simulated second), `fe_modes_50_s`, `tsing_ma_wind_over_still_air`,
 //! `sweep_tsing_ma_4_speeds_s`, `hslm_sweep_s`,
-//! `hslm_runs_per_s`.
+//! `hslm_runs_per_s`, and with them the conditions: `load_average_before` and
+//! `load_average_after` (the one-minute load average at the start and at the end, where the
+//! system reports one; `null` elsewhere) and `cores` (the cores the process may use).
 
 use crate::run::run_scenario;
 use crate::scenario::Scenario;
@@ -165,6 +167,7 @@ fn measure(
 }
 
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let load_before = load_average();
     let s = Scenario::from_toml(BENCH_SCENARIO, "<bench scenario>", Path::new("."))?;
     let sim_time = crate::model::build(&s)?.t_end();
     let mut figures = serde_json::Map::new();
@@ -260,7 +263,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         figures.insert("growth".into(), growth.into());
     }
     if args.quick {
-        return write_figures(&args, figures);
+        return write_figures(&args, figures, load_before);
     }
     let t = Instant::now();
     let params = crate::suspension::preset_params(crate::scenario::SuspensionPreset::TsingMa);
@@ -332,7 +335,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     );
     figures.insert("hslm_sweep_s".into(), hslm.into());
     figures.insert("hslm_runs_per_s".into(), (1130.0 / hslm).into());
-    write_figures(&args, figures)
+    write_figures(&args, figures, load_before)
 }
 
 /// A 20 m simply supported concrete span (f₁ = 6.4 Hz, three modes to 57 Hz) for the HSLM
@@ -362,10 +365,40 @@ name = "mid"
 x_m = 10.0
 "#;
 
+/// The one-minute load average, where the system reports one (`/proc/loadavg`).
+fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|text| parse_load_average(&text))
+}
+
+/// The first field of `/proc/loadavg` (`"1.14 1.68 1.50 2/345 12345"`), if it is a number.
+fn parse_load_average(text: &str) -> Option<f64> {
+    text.split_whitespace()
+        .next()?
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite() && *v >= 0.0)
+}
+
+/// Prints the conditions of the run (load average before and after, cores) and writes
+/// every figure with them to `--json`.
 fn write_figures(
     args: &BenchArgs,
-    figures: serde_json::Map<String, serde_json::Value>,
+    mut figures: serde_json::Map<String, serde_json::Value>,
+    load_before: Option<f64>,
 ) -> Result<(), Box<dyn std::error::Error>> {
+    let load_after = load_average();
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let shown = |l: Option<f64>| l.map_or("unknown".to_owned(), |v| format!("{v:.2}"));
+    println!(
+        "load average (1 min): {} before, {} after; {cores} cores",
+        shown(load_before),
+        shown(load_after)
+    );
+    figures.insert("load_average_before".into(), load_before.into());
+    figures.insert("load_average_after".into(), load_after.into());
+    figures.insert("cores".into(), cores.into());
     if let Some(path) = &args.json {
         crate::outdir::write_atomically(
             path,
@@ -379,6 +412,20 @@ fn write_figures(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The load average is the first field of `/proc/loadavg`; anything else is none.
+    #[test]
+    fn the_load_average_is_the_first_field() {
+        assert_eq!(
+            parse_load_average("1.14 1.68 1.50 2/345 12345\n"),
+            Some(1.14)
+        );
+        assert_eq!(parse_load_average("0.00 0.01 0.05 1/80 7"), Some(0.0));
+        assert_eq!(parse_load_average(""), None);
+        assert_eq!(parse_load_average("busy 1.0"), None);
+        assert_eq!(parse_load_average("-1 0 0"), None);
+        assert_eq!(parse_load_average("NaN 0 0"), None);
+    }
 
     /// The embedded scenarios are valid: a mistake in one would otherwise surface only in a
     /// bench run.
