@@ -386,9 +386,10 @@ impl Monolithic {
         let (a0, a1) = (self.nm.a0, self.nm.a1);
         let out = &mut w.deck;
         out.resize(self.wheelsets.len(), [Vector3::zeros(); 3]);
-        // Ψ q₁ of each wheelset of a vehicle on the deck, from the vehicle's block
-        let psi_q = &mut w.psi_q;
-        psi_q.resize(self.wheelsets.len(), Vector3::zeros());
+        // off the deck: none; on it (only in a vehicle with a block): from the block's Ψ q₁
+        for &ws in &w.busy {
+            out[ws] = [Vector3::zeros(); 3];
+        }
         for &i in &w.busy_vehicles {
             let u = &w.blocks[i];
             if u.is_empty() {
@@ -398,17 +399,13 @@ impl Monolithic {
             let uq = &mut w.ux[..r3];
             block_mul(u, self.q.as_slice(), uq);
             for (l, v) in uq.chunks_exact(3).enumerate() {
-                psi_q[f0 + l] = Vector3::new(v[0], v[1], v[2]);
+                let ws = f0 + l;
+                if self.on[ws] {
+                    let u = Vector3::new(v[0], v[1], v[2]);
+                    let [pv, pm] = w.pred[ws];
+                    out[ws] = [u, a1 * u - pv, a0 * u - pm];
+                }
             }
-        }
-        for &ws in &w.busy {
-            out[ws] = if self.on[ws] {
-                let u = psi_q[ws];
-                let [pv, pm] = w.pred[ws];
-                [u, a1 * u - pv, a0 * u - pm]
-            } else {
-                [Vector3::zeros(); 3]
-            };
         }
     }
 
@@ -1029,8 +1026,6 @@ struct Work {
     /// Scratch of a vehicle's `(v, v̇, v̈)` and of its wheelsets' `(r, ṙ − Ψ q_c)`.
     state: Vec<f64>,
     rails: Vec<f64>,
-    /// Per wheelset, `Ψ q₁` at the end of the step ([`Monolithic::deck_motion_at_end`]).
-    psi_q: Vec<Vector3<f64>>,
     /// Per vehicle (n values): the wind's share of `K̂⁻¹ b_v`, then the new state `v₁`.
     vm: Vec<DVector<f64>>,
     /// Per vehicle (n values): the damping predictor `v_c = a1 v + v̇`.
@@ -1098,7 +1093,6 @@ impl Work {
             blocks: vec![Vec::new(); train.vehicles.len()],
             state: Vec::new(),
             rails: Vec::new(),
-            psi_q: Vec::new(),
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),
