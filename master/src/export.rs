@@ -299,8 +299,8 @@ pub fn export_with(
     let bridge_guid = fmi_export::guid(BRIDGE_ID, BUILD_ID, &bridge_bytes);
     let train_guid = fmi_export::guid(TRAIN_ID, BUILD_ID, &train_json);
     let stop = model.t_end();
-    let bridge_path = out.join("bridge.fmu");
-    let train_path = out.join("train.fmu");
+    let bridge_path = out.join(Side::Bridge.fmu_file());
+    let train_path = out.join(Side::Train.fmu_file());
     let experiment = (stop, model.dt);
     let package = Packaging {
         libs: &libs,
@@ -354,7 +354,7 @@ pub fn export_with(
             let layout = WindLayout::of(&res);
             let json = serde_json::to_vec_pretty(&res).map_err(|e| e.to_string())?;
             let guid = fmi_export::guid(WIND_ID, BUILD_ID, &json);
-            let path = out.join("wind.fmu");
+            let path = out.join(Side::Wind.fmu_file());
             package.fmu::<fmu_wind::WindFmu>(
                 &path,
                 (WIND_ID, &guid, fmu_wind::layout::DESCRIPTION),
@@ -475,6 +475,9 @@ pub enum Side {
     Wind = 2,
 }
 
+/// The folder of the system archive that holds the FMUs (its components' `source`).
+pub const SSP_FMU_FOLDER: &str = "resources/";
+
 impl Side {
     /// The SSP component name.
     pub fn name(self) -> &'static str {
@@ -483,6 +486,17 @@ impl Side {
             Side::Train => "train",
             Side::Wind => "wind",
         }
+    }
+
+    /// The FMU's file in the export folder, `<name>.fmu`.
+    pub fn fmu_file(self) -> String {
+        format!("{}.fmu", self.name())
+    }
+
+    /// The FMU's entry in the system archive, its component's `source`:
+    /// [`SSP_FMU_FOLDER`] + [`Side::fmu_file`].
+    pub fn ssp_source(self) -> String {
+        format!("{SSP_FMU_FOLDER}{}", self.fmu_file())
     }
 }
 
@@ -609,9 +623,9 @@ fn write_ssp(
     let components: String = parts
         .iter()
         .map(|(side, _, vars)| {
-            let n = side.name();
+            let (n, source) = (side.name(), side.ssp_source());
             format!(
-                "      <ssd:Component name=\"{n}\" type=\"application/x-fmu-sharedlibrary\" source=\"resources/{n}.fmu\">\n        <ssd:Connectors>\n{}        </ssd:Connectors>\n      </ssd:Component>\n",
+                "      <ssd:Component name=\"{n}\" type=\"application/x-fmu-sharedlibrary\" source=\"{source}\">\n        <ssd:Connectors>\n{}        </ssd:Connectors>\n      </ssd:Component>\n",
                 connectors(vars)
             )
         })
@@ -646,12 +660,11 @@ fn write_ssp(
         conns,
         crate::ssp::COUPLING_ANNOTATION,
     );
-    let entry = |side: &Side| format!("resources/{}.fmu", side.name());
     let identities: Vec<(String, u64, u32)> = parts
         .iter()
         .map(|(side, fmu, _)| {
             length_and_crc(fmu)
-                .map(|(len, crc)| (entry(side), len, crc))
+                .map(|(len, crc)| (side.ssp_source(), len, crc))
                 .map_err(|e| format!("{}: {e}", fmu.display()))
         })
         .collect::<Result<_, _>>()?;
@@ -660,7 +673,7 @@ fn write_ssp(
             .iter()
             .map(|(side, fmu, _)| {
                 std::fs::read(fmu)
-                    .map(|bytes| (entry(side), bytes))
+                    .map(|bytes| (side.ssp_source(), bytes))
                     .map_err(|e| format!("{}: {e}", fmu.display()))
             })
             .collect::<Result<_, _>>()?;

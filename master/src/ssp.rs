@@ -275,14 +275,14 @@ pub fn open(path: &Path) -> Result<OpenSystem, String> {
 
 /// The system just exported to `ssp` with description `ssd` (the text the archive holds),
 /// its components' FMUs read where the exporter wrote them beside the archive (the archive's
-/// `resources/<name>.fmu` is `<name>.fmu` in the archive's folder), so that the archive is
-/// not unpacked only to copy them out again. Everything after the opening is the path
-/// `open` leads to.
+/// [`crate::export::Side::ssp_source`] is [`crate::export::Side::fmu_file`] in the archive's
+/// folder), so that the archive is not unpacked only to copy them out again. Everything
+/// after the opening is the path `open` leads to.
 pub fn open_exported(ssd: &str, ssp: &Path) -> Result<OpenSystem, String> {
     let origin = ssp.display().to_string();
     let mut ssd = parse_ssd(ssd, &format!("{origin}: SystemStructure.ssd"))?;
     for c in &mut ssd.components {
-        let Some(file) = c.source.strip_prefix("resources/") else {
+        let Some(file) = c.source.strip_prefix(crate::export::SSP_FMU_FOLDER) else {
             return Err(format!(
                 "{origin}: component \"{}\": source {} is not an exported FMU",
                 c.name, c.source
