@@ -43,7 +43,12 @@ pub struct BridgeFmu {
     inputs: Vec<WheelInput>,
     initialized: bool,
     outputs: Vec<f64>,
+    /// The outputs are not those of the current state and inputs.
     dirty: bool,
+    /// The probe outputs are current (meaningful once `dirty` is false): they are derived
+    /// only when read, as a master iterating a step reads the rail motion every sweep and
+    /// the probes once.
+    probes_current: bool,
 }
 
 impl Clone for BridgeFmu {
@@ -57,6 +62,7 @@ impl Clone for BridgeFmu {
             initialized: self.initialized,
             outputs: self.outputs.clone(),
             dirty: self.dirty,
+            probes_current: self.probes_current,
         }
     }
 
@@ -70,6 +76,7 @@ impl Clone for BridgeFmu {
         self.initialized = source.initialized;
         self.outputs.clone_from(&source.outputs);
         self.dirty = source.dirty;
+        self.probes_current = source.probes_current;
     }
 }
 
@@ -242,9 +249,11 @@ impl BridgeFmu {
             side,
             initialized: false,
             dirty: true,
+            probes_current: false,
         }
     }
 
+    /// Makes the rail-motion outputs current.
     fn refresh(&mut self) {
         if !self.dirty {
             return;
@@ -257,11 +266,34 @@ impl BridgeFmu {
         self.side.rails(&self.inputs, |w, r| {
             outputs[l.rail_out.slots(w)].copy_from_slice(&rail_values(r))
         });
+        self.dirty = false;
+        self.probes_current = false;
+    }
+
+    /// Makes every output current, the probes' included.
+    fn refresh_probes(&mut self) {
+        self.refresh();
+        if self.probes_current {
+            return;
+        }
+        let l = &self.layout;
         for (p, probe) in self.res.probes.iter().enumerate() {
             let v = self.side.probe(probe.x_m);
             self.outputs[l.probe_out.slots(p)].copy_from_slice(&probe_channels(&v));
         }
-        self.dirty = false;
+        self.probes_current = true;
+    }
+
+    /// Makes the outputs in `slots` current.
+    fn refresh_slots(&mut self, slots: std::ops::Range<usize>) {
+        let probes = &self.layout.probe_out;
+        let first_probe =
+            self.layout.rail_out.slot0.expect("an output block") + self.layout.rail_out.len();
+        if probes.count > 0 && slots.end > first_probe {
+            self.refresh_probes();
+        } else {
+            self.refresh();
+        }
     }
 }
 
@@ -349,7 +381,7 @@ impl FmuModel for BridgeFmu {
         let Some(first) = Block::output_run(&[l.rail_out, l.probe_out], vr) else {
             return get_each(self, vr, values);
         };
-        self.refresh();
+        self.refresh_slots(first..first + vr.len());
         values.copy_from_slice(&self.outputs[first..first + vr.len()]);
         Ok(())
     }
@@ -363,7 +395,7 @@ impl FmuModel for BridgeFmu {
                 .as_ref()
                 .expect("a wind input has its deck point")[j][k]),
             Some(BridgeVar::Output(slot)) => {
-                self.refresh();
+                self.refresh_slots(slot..slot + 1);
                 Ok(self.outputs[slot])
             }
             None => Err(format!("unknown value reference {vr}")),
