@@ -147,9 +147,12 @@ pub(crate) fn add_hunting(rail: &[Vector3<f64>; 3], h: &[f64; 3]) -> [Vector3<f6
 #[derive(Debug, Clone)]
 pub(crate) struct WheelForce {
     p0: Vector3<f64>,
-    m_w: Matrix3<f64>,
-    k_ww: Matrix3<f64>,
-    c_ww: Matrix3<f64>,
+    /// The diagonals of `M_w`, `K_ww`, `C_ww` (all a coach has of them).
+    m_w: Vector3<f64>,
+    k_ww: Vector3<f64>,
+    c_ww: Vector3<f64>,
+    /// Their entries off the diagonal where any is non-zero.
+    off_diagonal: Vec<RailEntry>,
     entries: Vec<WheelEntry>,
     /// No mass, stiffness or damping between the wheelset and the rail or its vehicle: the
     /// force is `p0` whatever the motion (a moving force).
@@ -195,12 +198,28 @@ impl WheelForce {
                 }
             }
         }
+        let mut off_diagonal = Vec::new();
+        for row in 0..3 {
+            for col in (0..3).filter(|&col| col != row) {
+                let (m, k, cw) = (c.m_w[(row, col)], c.k_ww[(row, col)], c.c_ww[(row, col)]);
+                if m != 0.0 || k != 0.0 || cw != 0.0 {
+                    off_diagonal.push(RailEntry {
+                        row,
+                        col,
+                        m,
+                        k,
+                        c: cw,
+                    });
+                }
+            }
+        }
         let zero = |m: &Matrix3<f64>| m.iter().all(|&v| v == 0.0);
         WheelForce {
             p0: c.p0,
-            m_w: c.m_w,
-            k_ww: c.k_ww,
-            c_ww: c.c_ww,
+            m_w: c.m_w.diagonal(),
+            k_ww: c.k_ww.diagonal(),
+            c_ww: c.c_ww.diagonal(),
+            off_diagonal,
             constant: entries.is_empty() && zero(&c.m_w) && zero(&c.k_ww) && zero(&c.c_ww),
             entries,
         }
@@ -215,13 +234,30 @@ impl WheelForce {
             return self.p0;
         }
         let [u, ud, udd] = rail;
-        let mut f = self.p0 - self.m_w * udd - self.k_ww * u - self.c_ww * ud;
+        // the diagonal products, then those off it (a coach has none)
+        let mut f = Vector3::from_fn(|i, _| {
+            self.p0[i] - self.m_w[i] * udd[i] - self.k_ww[i] * u[i] - self.c_ww[i] * ud[i]
+        });
+        for e in &self.off_diagonal {
+            f[e.row] -= e.m * udd[e.col] + e.k * u[e.col] + e.c * ud[e.col];
+        }
         let (v, vd) = (s.v.as_slice(), s.vd.as_slice());
         for e in &self.entries {
             f[e.row] -= e.k * v[e.dof] + e.c * vd[e.dof];
         }
         f
     }
+}
+
+/// Row `row` (force component), column `col` (rail DOF) off the diagonal of a wheelset's
+/// `M_w`, `K_ww` and `C_ww`, where any is non-zero.
+#[derive(Debug, Clone, Copy)]
+struct RailEntry {
+    row: usize,
+    col: usize,
+    m: f64,
+    k: f64,
+    c: f64,
 }
 
 /// Row `row` (force component), column `dof` (vehicle DOF) of a wheelset's `K_wv` and `C_wv`,
