@@ -279,6 +279,54 @@ mod tests {
     /// The wheelsets at the same place of vehicles of one model (one `Arc`) share their
     /// force data; a vehicle of an equal model built apart keeps its own (its own `Arc`); and
     /// the shared data gives each wheelset the force its own would.
+    /// The force from the blocks' diagonals and non-zero entries equals eq. (6) with the full
+    /// matrices ([`LinearVehicle::wheel_force`]): on the coach, whose `M_w`, `K_ww`, `C_ww`
+    /// are diagonal, and with entries added off their diagonals.
+    #[test]
+    fn the_wheel_force_equals_eq_6_with_the_full_blocks() {
+        let mut coach = crate::vehicle::coach::CoachParams::xia2000()
+            .build()
+            .unwrap();
+        let n = coach.ndof();
+        let state = VehicleState {
+            v: DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() * 1e-3),
+            vd: DVector::from_fn(n, |i, _| (i as f64 * 0.71).cos() * 1e-2),
+            vdd: DVector::zeros(n),
+        };
+        let rail = [
+            Vector3::new(-1e-3, 2e-4, -3e-3),
+            Vector3::new(4e-2, -5e-3, 6e-2),
+            Vector3::new(-0.7, 0.8, -0.9),
+        ];
+        for off_diagonal in [false, true] {
+            if off_diagonal {
+                let ws = &mut coach.wheelsets[1];
+                ws.k_ww[(0, 1)] = 3.0e5;
+                ws.k_ww[(1, 0)] = 3.0e5;
+                ws.c_ww[(2, 1)] = -40.0;
+                ws.m_w[(1, 2)] = 7.0;
+            }
+            for w in 0..coach.wheelsets.len() {
+                let f = WheelForce::of(&coach.wheelsets[w]);
+                assert_eq!(
+                    f.off_diagonal.len(),
+                    if off_diagonal && w == 1 { 4 } else { 0 }
+                );
+                let got = f.force(&state, &rail);
+                let [u, ud, udd] = &rail;
+                let want = coach.wheel_force(w, &state.v, &state.vd, u, ud, udd);
+                for k in 0..3 {
+                    assert!(
+                        (got[k] - want[k]).abs() <= 1e-12 * want.amax(),
+                        "wheelset {w}, component {k}: {} against {}",
+                        got[k],
+                        want[k]
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn wheelsets_of_one_model_share_their_force_data() {
         use crate::train::{Train, TrainVehicle};
