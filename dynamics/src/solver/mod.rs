@@ -228,6 +228,7 @@ impl WheelForce {
     /// The force on the rail of the wheelset with rail motion `(u, u̇, ü)` under vehicle state
     /// `s`: eq. (6) as [`LinearVehicle::wheel_force`], with `K_wv v + C_wv v̇` from the
     /// non-zero entries of `K_wv`, `C_wv` (a wheelset couples to a few of its vehicle's DOFs).
+    #[inline]
     pub(crate) fn force(&self, s: &VehicleState, rail: &[Vector3<f64>; 3]) -> Vector3<f64> {
         if self.constant {
             // p0 − 0·ü − 0·u − 0·u̇ for a finite motion, without the products
