@@ -14,20 +14,12 @@ use tbi_dynamics::vehicle::coach::CoachParams;
 
 fn bridge_3d(e: f64, h4: f64, damping: f64) -> ModalBridge {
     SimplySupported {
-        span_m: 60.0,
-        youngs_modulus_pa: 3.0e10,
-        inertia_vertical_m4: 8.0,
-        inertia_lateral_m4: Some(40.0),
-        shear_modulus_pa: Some(1.2e10),
-        torsion_constant_m4: Some(12.0),
-        polar_inertia_kg_m: Some(3.0e5),
-        mass_per_length_kg_m: 2.0e4,
         modes: 12,
         damping_ratio: damping,
         damping_ratio_torsional: damping / 2.0,
         e_m: e,
         h4_m: h4,
-        x_start_m: 0.0,
+        ..SimplySupported::example()
     }
     .modal()
 }

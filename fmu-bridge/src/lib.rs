@@ -521,23 +521,7 @@ mod tests {
 
     /// A 60 m girder with two wheelsets crossing it and two probes.
     fn bridge_fmu() -> BridgeFmu {
-        let modal = SimplySupported {
-            span_m: 60.0,
-            youngs_modulus_pa: 3.0e10,
-            inertia_vertical_m4: 8.0,
-            inertia_lateral_m4: Some(40.0),
-            shear_modulus_pa: Some(1.2e10),
-            torsion_constant_m4: Some(12.0),
-            polar_inertia_kg_m: Some(3.0e5),
-            mass_per_length_kg_m: 2.0e4,
-            modes: 10,
-            damping_ratio: 0.02,
-            damping_ratio_torsional: 0.01,
-            e_m: 2.05,
-            h4_m: 1.25,
-            x_start_m: 0.0,
-        }
-        .modal();
+        let modal = SimplySupported::example().modal();
         let probe = |name: &str, x_m| ProbeSpec {
             name: name.into(),
             x_m,

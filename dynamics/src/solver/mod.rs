@@ -280,15 +280,8 @@ mod tests {
     /// The wheelsets at the same place of vehicles of one model (one `Arc`) share their
     /// force data; a vehicle of an equal model built apart keeps its own (its own `Arc`); and
     /// the shared data gives each wheelset the force its own would.
-    /// The force from the blocks' diagonals and non-zero entries equals eq. (6) with the full
-    /// matrices ([`LinearVehicle::wheel_force`]): on the coach, whose `M_w`, `K_ww`, `C_ww`
-    /// are diagonal, and with entries added off their diagonals.
-    #[test]
-    fn the_wheel_force_equals_eq_6_with_the_full_blocks() {
-        let mut coach = crate::vehicle::coach::CoachParams::xia2000()
-            .build()
-            .unwrap();
-        let n = coach.ndof();
+    /// A vehicle state of `n` DOFs and a rail motion `(u, u̇, ü)`, all components non-zero.
+    fn state_and_rail(n: usize) -> (VehicleState, [Vector3<f64>; 3]) {
         let state = VehicleState {
             v: DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() * 1e-3),
             vd: DVector::from_fn(n, |i, _| (i as f64 * 0.71).cos() * 1e-2),
@@ -299,6 +292,18 @@ mod tests {
             Vector3::new(4e-2, -5e-3, 6e-2),
             Vector3::new(-0.7, 0.8, -0.9),
         ];
+        (state, rail)
+    }
+
+    /// The force from the blocks' diagonals and non-zero entries equals eq. (6) with the full
+    /// matrices ([`LinearVehicle::wheel_force`]): on the coach, whose `M_w`, `K_ww`, `C_ww`
+    /// are diagonal, and with entries added off their diagonals.
+    #[test]
+    fn the_wheel_force_equals_eq_6_with_the_full_blocks() {
+        let mut coach = crate::vehicle::coach::CoachParams::xia2000()
+            .build()
+            .unwrap();
+        let (state, rail) = state_and_rail(coach.ndof());
         for off_diagonal in [false, true] {
             if off_diagonal {
                 let ws = &mut coach.wheelsets[1];
@@ -365,17 +370,7 @@ mod tests {
                 assert!(ws.vehicle == 1, "wheelset {w}");
             }
             let own = WheelForce::of(&train.vehicles[ws.vehicle].model.wheelsets[ws.local]);
-            let n = train.vehicles[ws.vehicle].model.ndof();
-            let state = VehicleState {
-                v: DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() * 1e-3),
-                vd: DVector::from_fn(n, |i, _| (i as f64 * 0.71).cos() * 1e-2),
-                vdd: DVector::zeros(n),
-            };
-            let rail = [
-                Vector3::new(-1e-3, 2e-4, -3e-3),
-                Vector3::new(4e-2, -5e-3, 6e-2),
-                Vector3::new(-0.7, 0.8, -0.9),
-            ];
+            let (state, rail) = state_and_rail(train.vehicles[ws.vehicle].model.ndof());
             assert_eq!(forces[w].force(&state, &rail), own.force(&state, &rail));
         }
         assert!(!Arc::ptr_eq(&forces[0], &forces[8]));
