@@ -67,6 +67,8 @@ impl Clone for BridgeFmu {
     }
 
     /// Reuses this model's allocations: a rollback copies the modal state and the inputs.
+    /// The outputs, derived from those, are not copied but derived again when read (a master
+    /// sets new inputs and steps after a rollback before it reads any).
     fn clone_from(&mut self, source: &Self) {
         self.res.clone_from(&source.res);
         self.layout.clone_from(&source.layout);
@@ -74,9 +76,9 @@ impl Clone for BridgeFmu {
         self.side.clone_from(&source.side);
         self.inputs.clone_from(&source.inputs);
         self.initialized = source.initialized;
-        self.outputs.clone_from(&source.outputs);
-        self.dirty = source.dirty;
-        self.probes_current = source.probes_current;
+        self.outputs.resize(source.outputs.len(), 0.0);
+        self.dirty = true;
+        self.probes_current = false;
     }
 }
 

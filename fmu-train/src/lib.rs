@@ -67,7 +67,9 @@ impl Clone for TrainFmu {
         }
     }
 
-    /// Reuses this model's allocations: a rollback copies the state, not the train.
+    /// Reuses this model's allocations: a rollback copies the state, not the train. The
+    /// outputs, derived from the state and the inputs, are not copied but derived again when
+    /// read (a master sets new inputs and steps after a rollback before it reads any).
     fn clone_from(&mut self, source: &Self) {
         self.original.clone_from(&source.original);
         self.res.clone_from(&source.res);
@@ -78,8 +80,8 @@ impl Clone for TrainFmu {
         self.wind.clone_from(&source.wind);
         self.side.clone_from(&source.side);
         self.initialized = source.initialized;
-        self.outputs.clone_from(&source.outputs);
-        self.dirty = source.dirty;
+        self.outputs.resize(source.outputs.len(), 0.0);
+        self.dirty = true;
     }
 }
 
