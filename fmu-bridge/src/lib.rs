@@ -25,6 +25,7 @@ use tbi_dynamics::interface::{
     BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, ProbeValues, WheelInput};
+use tbi_dynamics::solver::share;
 use tbi_dynamics::track::{RailProfile, Smooth};
 
 /// GUID of a bridge FMU with these resource bytes: `bridge.json`, then (with a track
@@ -70,8 +71,8 @@ impl Clone for BridgeFmu {
     /// The outputs, derived from those, are not copied but derived again when read (a master
     /// sets new inputs and steps after a rollback before it reads any).
     fn clone_from(&mut self, source: &Self) {
-        self.res.clone_from(&source.res);
-        self.layout.clone_from(&source.layout);
+        share(&mut self.res, &source.res);
+        share(&mut self.layout, &source.layout);
         self.guid.clone_from(&source.guid);
         self.side.clone_from(&source.side);
         self.inputs.clone_from(&source.inputs);

@@ -22,7 +22,7 @@ use tbi_dynamics::interface::{
     TRAIN_RESOURCE,
 };
 use tbi_dynamics::solver::partitioned::TrainSide;
-use tbi_dynamics::solver::VehicleState;
+use tbi_dynamics::solver::{share, VehicleState};
 use tbi_dynamics::train::Speed;
 use tbi_dynamics::vehicle::WheelLoads;
 
@@ -71,10 +71,10 @@ impl Clone for TrainFmu {
     /// outputs, derived from the state and the inputs, are not copied but derived again when
     /// read (a master sets new inputs and steps after a rollback before it reads any).
     fn clone_from(&mut self, source: &Self) {
-        self.original.clone_from(&source.original);
-        self.res.clone_from(&source.res);
+        share(&mut self.original, &source.original);
+        share(&mut self.res, &source.res);
         self.guid.clone_from(&source.guid);
-        self.layout.clone_from(&source.layout);
+        share(&mut self.layout, &source.layout);
         self.start_time = source.start_time;
         self.rails.clone_from(&source.rails);
         self.wind.clone_from(&source.wind);

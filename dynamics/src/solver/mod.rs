@@ -11,6 +11,7 @@ use crate::train::Train;
 use crate::vehicle::LinearVehicle;
 use nalgebra::{DVector, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 pub use monolithic::Monolithic;
 
@@ -133,6 +134,16 @@ pub fn rail_prescribed(
     add_hunting(&rail_motion(&track.at(x), train.speed_m_s), &h)
 }
 
+/// `to` made to share `from`'s allocation, without touching the reference counts when it
+/// already does: a rollback copies a model's `Arc`s of constant data on every restore, and
+/// `Arc::clone_from` would otherwise increment one count and decrement another each time.
+#[inline]
+pub fn share<T: ?Sized>(to: &mut Arc<T>, from: &Arc<T>) {
+    if !Arc::ptr_eq(to, from) {
+        *to = from.clone();
+    }
+}
+
 /// `rail` with the lateral hunting motion `h = (Y_h, Ẏ_h, Ÿ_h)` added.
 pub(crate) fn add_hunting(rail: &[Vector3<f64>; 3], h: &[f64; 3]) -> [Vector3<f64>; 3] {
     let mut r = *rail;
@@ -166,21 +177,21 @@ impl WheelForce {
     pub(crate) fn of_train(
         train: &crate::train::Train,
         wheelsets: &[crate::train::WheelsetRef],
-    ) -> Vec<std::sync::Arc<WheelForce>> {
+    ) -> Vec<Arc<WheelForce>> {
         let first_of = train.first_of_same_model();
         // where each vehicle's wheelsets start in `wheelsets` (front to back, by vehicle)
         let mut start = vec![0; train.vehicles.len()];
         for (w, ws) in wheelsets.iter().enumerate().rev() {
             start[ws.vehicle] = w;
         }
-        let mut out: Vec<std::sync::Arc<WheelForce>> = Vec::with_capacity(wheelsets.len());
+        let mut out: Vec<Arc<WheelForce>> = Vec::with_capacity(wheelsets.len());
         for ws in wheelsets {
             let same = start[first_of[ws.vehicle]] + ws.local;
             let f = match out.get(same) {
                 Some(first) => first.clone(),
                 None => {
                     let model = &train.vehicles[ws.vehicle].model;
-                    std::sync::Arc::new(WheelForce::of(&model.wheelsets[ws.local]))
+                    Arc::new(WheelForce::of(&model.wheelsets[ws.local]))
                 }
             };
             out.push(f);
@@ -280,6 +291,20 @@ mod tests {
     /// The wheelsets at the same place of vehicles of one model (one `Arc`) share their
     /// force data; a vehicle of an equal model built apart keeps its own (its own `Arc`); and
     /// the shared data gives each wheelset the force its own would.
+    /// `share` leaves an `Arc` that already shares the allocation alone (no count moves) and
+    /// otherwise makes it share the other's, releasing its own.
+    #[test]
+    fn share_moves_no_count_when_already_shared() {
+        let a = Arc::new(1.0);
+        let mut b = a.clone();
+        share(&mut b, &a);
+        assert_eq!(Arc::strong_count(&a), 2);
+        let c = Arc::new(2.0);
+        share(&mut b, &c);
+        assert!(Arc::ptr_eq(&b, &c));
+        assert_eq!((Arc::strong_count(&a), Arc::strong_count(&c)), (1, 2));
+    }
+
     /// A vehicle state of `n` DOFs and a rail motion `(u, u̇, ü)`, all components non-zero.
     fn state_and_rail(n: usize) -> (VehicleState, [Vector3<f64>; 3]) {
         let state = VehicleState {

@@ -145,13 +145,16 @@ impl Clone for BridgeSide {
 
     /// Reuses this side's allocations (the rollback of an FMU copies the modal state).
     fn clone_from(&mut self, source: &Self) {
-        self.bridge.clone_from(&source.bridge);
-        self.track.clone_from(&source.track);
+        super::share(&mut self.bridge, &source.bridge);
+        super::share(&mut self.track, &source.track);
         self.state.clone_from(&source.state);
         self.omega.clone_from(&source.omega);
         self.zeta.clone_from(&source.zeta);
-        self.cache.clone_from(&source.cache);
-        self.buffeting.clone_from(&source.buffeting);
+        super::share(&mut self.cache, &source.cache);
+        match (&mut self.buffeting, &source.buffeting) {
+            (Some(to), Some(from)) => super::share(to, from),
+            (to, from) => to.clone_from(from),
+        }
         self.deck_wind.clone_from(&source.deck_wind);
     }
 }
@@ -709,16 +712,16 @@ impl Clone for TrainSide {
     /// Reuses this side's allocations (the rollback of an FMU copies states, not models;
     /// the step bases stay, as they are keyed by the state they were made from).
     fn clone_from(&mut self, source: &Self) {
-        self.train.clone_from(&source.train);
+        super::share(&mut self.train, &source.train);
         self.wheelsets.clone_from(&source.wheelsets);
         self.states.clone_from(&source.states);
         self.rails.clone_from(&source.rails);
         self.t = source.t;
         self.body_wind.clone_from(&source.body_wind);
-        self.factors.clone_from(&source.factors);
-        self.sparse.clone_from(&source.sparse);
-        self.model_of.clone_from(&source.model_of);
-        self.forces.clone_from(&source.forces);
+        super::share(&mut self.factors, &source.factors);
+        super::share(&mut self.sparse, &source.sparse);
+        super::share(&mut self.model_of, &source.model_of);
+        super::share(&mut self.forces, &source.forces);
     }
 }
 
