@@ -39,7 +39,8 @@ pub fn guid_for(resource_bytes: &[u8]) -> String {
 pub struct BridgeFmu {
     res: Arc<BridgeResources>,
     layout: Arc<BridgeLayout>,
-    guid: String,
+    /// Constant from instantiation on (shared by the instance's saved states).
+    guid: Arc<str>,
     side: BridgeSide,
     inputs: Vec<WheelInput>,
     initialized: bool,
@@ -73,7 +74,7 @@ impl Clone for BridgeFmu {
     fn clone_from(&mut self, source: &Self) {
         share(&mut self.res, &source.res);
         share(&mut self.layout, &source.layout);
-        self.guid.clone_from(&source.guid);
+        share(&mut self.guid, &source.guid);
         self.side.clone_from(&source.side);
         self.inputs.clone_from(&source.inputs);
         self.initialized = source.initialized;
@@ -248,7 +249,7 @@ impl BridgeFmu {
             outputs: vec![0.0; layout.n_outputs()],
             layout: Arc::new(layout),
             res: Arc::new(res),
-            guid,
+            guid: guid.into(),
             side,
             initialized: false,
             dirty: true,
@@ -320,7 +321,7 @@ impl FmuModel for BridgeFmu {
     }
 
     fn guid(&self) -> String {
-        self.guid.clone()
+        self.guid.to_string()
     }
 
     fn exit_initialization(&mut self) -> Result<(), String> {
@@ -483,7 +484,7 @@ impl FmuModel for BridgeFmu {
         let fresh = BridgeFmu::from_parts(
             (*self.res).clone(),
             self.side.track.clone(),
-            self.guid.clone(),
+            self.guid.to_string(),
         );
         *self = fresh;
         Ok(())

@@ -36,7 +36,8 @@ pub struct TrainFmu {
     original: Arc<TrainResources>,
     /// The resources with the parameters set so far (copied on a parameter's write).
     res: Arc<TrainResources>,
-    guid: String,
+    /// Constant from instantiation on (shared by the instance's saved states).
+    guid: Arc<str>,
     layout: Arc<TrainLayout>,
     start_time: f64,
     /// Rail motion inputs (u, u̇, ü) per wheelset.
@@ -73,7 +74,7 @@ impl Clone for TrainFmu {
     fn clone_from(&mut self, source: &Self) {
         share(&mut self.original, &source.original);
         share(&mut self.res, &source.res);
-        self.guid.clone_from(&source.guid);
+        share(&mut self.guid, &source.guid);
         share(&mut self.layout, &source.layout);
         self.start_time = source.start_time;
         self.rails.clone_from(&source.rails);
@@ -202,7 +203,7 @@ impl TrainFmu {
         TrainFmu {
             original: Arc::new(res.clone()),
             res: Arc::new(res),
-            guid,
+            guid: guid.into(),
             start_time: 0.0,
             rails: vec![[Vector3::zeros(); 3]; layout.n_wheelsets()],
             wind: vec![0.0; layout.wind_in.count],
@@ -343,7 +344,7 @@ impl FmuModel for TrainFmu {
     }
 
     fn guid(&self) -> String {
-        self.guid.clone()
+        self.guid.to_string()
     }
 
     fn setup_experiment(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
@@ -458,7 +459,7 @@ impl FmuModel for TrainFmu {
     }
 
     fn reset(&mut self) -> Result<(), String> {
-        *self = TrainFmu::from_parts((*self.original).clone(), self.guid.clone());
+        *self = TrainFmu::from_parts((*self.original).clone(), self.guid.to_string());
         Ok(())
     }
 

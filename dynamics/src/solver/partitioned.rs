@@ -107,8 +107,8 @@ pub struct BridgeSide {
     pub bridge: Arc<ModalBridge>,
     pub track: Arc<dyn RailProfile>,
     pub state: ModalState,
-    omega: Vec<f64>,
-    zeta: Vec<f64>,
+    omega: Arc<Vec<f64>>,
+    zeta: Arc<Vec<f64>>,
     /// Rail shapes at recent positions, shared by clones (it holds derived data only, keyed
     /// by position, so a restored state may use it too).
     cache: Arc<Mutex<ShapeCache>>,
@@ -148,8 +148,8 @@ impl Clone for BridgeSide {
         super::share(&mut self.bridge, &source.bridge);
         super::share(&mut self.track, &source.track);
         self.state.clone_from(&source.state);
-        self.omega.clone_from(&source.omega);
-        self.zeta.clone_from(&source.zeta);
+        super::share(&mut self.omega, &source.omega);
+        super::share(&mut self.zeta, &source.zeta);
         super::share(&mut self.cache, &source.cache);
         match (&mut self.buffeting, &source.buffeting) {
             (Some(to), Some(from)) => super::share(to, from),
@@ -163,8 +163,8 @@ impl BridgeSide {
     pub fn new(bridge: Arc<ModalBridge>, track: Arc<dyn RailProfile>) -> Self {
         let nb = bridge.n_modes();
         BridgeSide {
-            omega: bridge.omegas(),
-            zeta: bridge.damping.clone(),
+            omega: Arc::new(bridge.omegas()),
+            zeta: Arc::new(bridge.damping.clone()),
             state: ModalState {
                 q: vec![0.0; nb],
                 qd: vec![0.0; nb],
@@ -635,7 +635,7 @@ impl VehicleSparse {
 #[derive(Debug)]
 pub struct TrainSide {
     pub train: Arc<Train>,
-    pub wheelsets: Vec<WheelsetRef>,
+    pub wheelsets: Arc<Vec<WheelsetRef>>,
     pub states: Vec<VehicleState>,
     /// Total rail motion (with hunting) used for the current state, per wheelset.
     pub rails: Vec<[Vector3<f64>; 3]>,
@@ -713,7 +713,7 @@ impl Clone for TrainSide {
     /// the step bases stay, as they are keyed by the state they were made from).
     fn clone_from(&mut self, source: &Self) {
         super::share(&mut self.train, &source.train);
-        self.wheelsets.clone_from(&source.wheelsets);
+        super::share(&mut self.wheelsets, &source.wheelsets);
         self.states.clone_from(&source.states);
         self.rails.clone_from(&source.rails);
         self.t = source.t;
@@ -766,7 +766,7 @@ impl TrainSide {
                 .map(|tv| DVector::zeros(tv.model.ndof()))
                 .collect(),
             body_wind: vec![0.0; train.vehicles.len()],
-            wheelsets,
+            wheelsets: Arc::new(wheelsets),
             train,
             t: 0.0,
             hunting: HuntingCache::default(),
