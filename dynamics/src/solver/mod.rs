@@ -40,7 +40,7 @@ impl Clone for VehicleState {
             (&mut self.vdd, &source.vdd),
         ] {
             if to.len() == from.len() {
-                to.copy_from(from);
+                to.as_mut_slice().copy_from_slice(from.as_slice());
             } else {
                 *to = from.clone();
             }
