@@ -662,6 +662,9 @@ pub struct TrainSide {
     bases: Vec<StepBase>,
     /// Scratch vector of a step per vehicle (the wind's share of the acceleration).
     work: Vec<DVector<f64>>,
+    /// Scratch of a step: the rail terms `(u, u̇)` of up to eight wheelsets, one after the
+    /// other (written before they are read).
+    uv: Vec<f64>,
     /// The hunting motion of every wheelset at the end of the last step asked for (derived
     /// data keyed by the time and the train: an iterating master repeats a step many times).
     hunting: HuntingCache,
@@ -705,6 +708,7 @@ impl Clone for TrainSide {
             forces: self.forces.clone(),
             bases: self.bases.clone(),
             work: self.work.clone(),
+            uv: Vec::new(),
             hunting: self.hunting.clone(),
         }
     }
@@ -760,6 +764,7 @@ impl TrainSide {
             model_of: Arc::new(train.first_of_same_model()),
             forces: Arc::new(WheelForce::of_train(&train, &wheelsets)),
             bases: vec![StepBase::default(); train.vehicles.len()],
+            uv: Vec::new(),
             work: train
                 .vehicles
                 .iter()
@@ -829,7 +834,8 @@ impl TrainSide {
                 a.copy_from_slice(&base.b);
                 // Σ_l G_l (u_l, u̇_l) as one sum over the columns of up to eight wheelsets
                 // at a time (column after column, as wheelset after wheelset would add them)
-                let mut uv = [0.0; 6 * 8];
+                let uv = &mut self.uv;
+                uv.resize(6 * 8, 0.0);
                 for (g, rails) in (factor.gain[..6 * n * nw].chunks(6 * n * 8))
                     .zip(self.rails[first..first + nw].chunks(8))
                 {
