@@ -255,10 +255,16 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
             }
         }
         // the tail's rows of y through memory as scalars, which a store just before forwards
+        // (element by element, r < 4: a loop over them becomes a call of memcpy)
         let mut tail = [0.0; 4];
         if TAIL && !zero {
-            for (k, t) in tail.iter_mut().enumerate().take(r) {
-                *t = *yp.add(4 * G + k);
+            let yt = yp.add(4 * G);
+            tail[0] = *yt;
+            if r > 1 {
+                tail[1] = *yt.add(1);
+            }
+            if r > 2 {
+                tail[2] = *yt.add(2);
             }
         }
         let mut last = _mm256_loadu_pd(tail.as_ptr());
@@ -279,8 +285,13 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
         }
         if TAIL {
             _mm256_storeu_pd(tail.as_mut_ptr(), last);
-            for (k, t) in tail.iter().enumerate().take(r) {
-                *yp.add(4 * G + k) = *t;
+            let yt = yp.add(4 * G);
+            *yt = tail[0];
+            if r > 1 {
+                *yt.add(1) = tail[1];
+            }
+            if r > 2 {
+                *yt.add(2) = tail[2];
             }
         }
     }
