@@ -291,9 +291,8 @@ impl BridgeFmu {
     /// Makes the outputs in `slots` current.
     fn refresh_slots(&mut self, slots: std::ops::Range<usize>) {
         let probes = &self.layout.probe_out;
-        let first_probe =
-            self.layout.rail_out.slot0.expect("an output block") + self.layout.rail_out.len();
-        if probes.count > 0 && slots.end > first_probe {
+        let overlap = |first: usize| slots.start < first + probes.len() && first < slots.end;
+        if probes.count > 0 && overlap(probes.slot(0, 0)) {
             self.refresh_probes();
         } else {
             self.refresh();

@@ -1181,10 +1181,11 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
 /// exact zeros (structural zeros of the suspension layout, e.g. between lateral and vertical
 /// rail DOFs, left as round-off by the Schur complement); empty when it is zero.
 fn structural(s: &DMatrix<f64>) -> Vec<f64> {
-    let tol = 1e-14 * s.amax();
-    if s.amax() == 0.0 {
+    let max = s.amax();
+    if max == 0.0 {
         return Vec::new();
     }
+    let tol = 1e-14 * max;
     s.iter()
         .map(|&v| if v.abs() > tol { v } else { 0.0 })
         .collect()
