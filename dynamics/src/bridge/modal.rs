@@ -248,15 +248,20 @@ impl ModalBridge {
     /// is a chain of dependent multiplies and subtractions, which leaves the processor
     /// waiting), and the rail map is applied as each value is made instead of in a second
     /// pass. `scratch` keeps the sines (it only grows, so repeated calls do not allocate).
+    /// Unless `rows` is empty, `rows[j]` also takes the same shapes as three rows of the
+    /// modes' values, component after component (`rows[j][k N + n] = outs[j][n][k]`).
     pub fn rail_shapes_lanes(
         &self,
         xs: &[f64],
         outs: &mut [&mut [[f64; 3]]],
+        rows: &mut [&mut [f64]],
         on: &mut [bool],
         scratch: &mut Vec<[f64; SHAPE_LANES]>,
     ) {
         let m = xs.len();
+        let nb = self.n_modes();
         assert!(m <= SHAPE_LANES && outs.len() >= m && on.len() >= m);
+        assert!(rows.is_empty() || rows.len() >= m);
         let Shapes::Sine {
             span_m,
             half_waves,
@@ -265,20 +270,40 @@ impl ModalBridge {
         else {
             for j in 0..m {
                 on[j] = self.rail_shapes(xs[j], outs[j]);
+                if let Some(r) = rows.get_mut(j) {
+                    components_into(outs[j], r);
+                }
             }
             return;
         };
         let s = self.lane_sines(*span_m, half_waves, xs, on, scratch);
         for j in 0..m {
             let out = &mut *outs[j];
-            debug_assert_eq!(out.len(), self.n_modes());
-            if !on[j] {
-                out.iter_mut().for_each(|o| *o = [0.0; 3]);
-                continue;
-            }
-            for ((o, &k), a) in out.iter_mut().zip(half_waves).zip(amplitudes) {
-                let sk = s[k as usize][j];
-                *o = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
+            debug_assert_eq!(out.len(), nb);
+            match (on[j], rows.get_mut(j)) {
+                (false, r) => {
+                    out.iter_mut().for_each(|o| *o = [0.0; 3]);
+                    if let Some(r) = r {
+                        r[..3 * nb].fill(0.0);
+                    }
+                }
+                (true, None) => {
+                    for ((o, &k), a) in out.iter_mut().zip(half_waves).zip(amplitudes) {
+                        let sk = s[k as usize][j];
+                        *o = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
+                    }
+                }
+                (true, Some(r)) => {
+                    let (r0, r12) = r[..3 * nb].split_at_mut(nb);
+                    let (r1, r2) = r12.split_at_mut(nb);
+                    let lanes = out.iter_mut().zip(half_waves).zip(amplitudes);
+                    for (n, ((o, &k), a)) in lanes.enumerate() {
+                        let sk = s[k as usize][j];
+                        let v = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
+                        *o = v;
+                        (r0[n], r1[n], r2[n]) = (v[0], v[1], v[2]);
+                    }
+                }
             }
         }
     }
@@ -579,6 +604,17 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
     (start, w)
 }
 
+/// Shapes `(a, b, c)` of each mode as three rows of the modes' values, one component after
+/// the other: `rows[k · N + n] = shapes[n][k]` (`N` = `shapes.len()`).
+fn components_into(shapes: &[[f64; 3]], rows: &mut [f64]) {
+    let nb = shapes.len();
+    for (k, row) in rows[..3 * nb].chunks_exact_mut(nb.max(1)).enumerate() {
+        for (o, p) in row.iter_mut().zip(shapes) {
+            *o = p[k];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -747,7 +783,25 @@ mod tests {
                     let mut outs: Vec<&mut [[f64; 3]]> =
                         bufs.iter_mut().map(|b| b.as_mut_slice()).collect();
                     let mut on = [true; SHAPE_LANES];
-                    b.rail_shapes_lanes(x, &mut outs, &mut on, &mut scratch);
+                    b.rail_shapes_lanes(x, &mut outs, &mut [], &mut on, &mut scratch);
+                    // with the rows of the components: the same shapes, and the rows theirs
+                    let mut bufs2 = vec![vec![[f64::NAN; 3]; n]; lanes];
+                    let mut outs2: Vec<&mut [[f64; 3]]> =
+                        bufs2.iter_mut().map(|b| b.as_mut_slice()).collect();
+                    let mut rows = vec![vec![f64::NAN; 3 * n]; lanes];
+                    let mut rows_of: Vec<&mut [f64]> =
+                        rows.iter_mut().map(|r| r.as_mut_slice()).collect();
+                    let mut on2 = [true; SHAPE_LANES];
+                    b.rail_shapes_lanes(x, &mut outs2, &mut rows_of, &mut on2, &mut scratch);
+                    assert_eq!(on2, on);
+                    for j in 0..lanes {
+                        for (i, p) in bufs2[j].iter().enumerate() {
+                            for k in 0..3 {
+                                assert_eq!(p[k].to_bits(), bufs[j][i][k].to_bits());
+                                assert_eq!(rows[j][k * n + i].to_bits(), p[k].to_bits());
+                            }
+                        }
+                    }
                     for j in 0..lanes {
                         let mut want = vec![[0.0; 3]; n];
                         let want_on = b.rail_shapes(x[j], &mut want);

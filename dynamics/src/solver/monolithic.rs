@@ -94,6 +94,10 @@ pub struct Monolithic {
     omega: Vec<f64>,
     zeta: Vec<f64>,
     psi: Vec<[f64; 3]>,
+    /// The same shapes as three rows of `N_b` per wheelset, component after component
+    /// (`psi_t[(3w + k) N_b + n] = psi[w N_b + n][k]`): a vehicle's wheelsets' rows, one after
+    /// the other, are its `U` rail DOF after rail DOF ([`block_tr_add`]).
+    psi_t: Vec<f64>,
     presc: Vec<[Vector3<f64>; 3]>,
     /// Per vehicle, its constant blocks (shared by the vehicles of one model).
     cache: Vec<Arc<VehicleCache>>,
@@ -179,6 +183,7 @@ impl Monolithic {
             rail: vec![[Vector3::zeros(); 3]; nw],
             forces: vec![Vector3::zeros(); nw],
             psi: vec![[0.0; 3]; nw * nb],
+            psi_t: vec![0.0; 3 * nw * nb],
             presc: vec![[Vector3::zeros(); 3]; nw],
             cache,
             first_ws,
@@ -227,7 +232,10 @@ impl Monolithic {
     /// wheelsets' positions at the current time: what a step to this time solves for `q`
     /// (see the module docs), with the vehicles eliminated. For inspection and tests.
     pub fn reduced_matrix(&self) -> DMatrix<f64> {
-        self.assemble_reduced(&self.work.dhat, &self.work.busy_vehicles)
+        let w = &self.work;
+        let mut blocks = vec![Vec::new(); self.train.vehicles.len()];
+        self.gather_blocks(&w.busy_vehicles, &mut blocks);
+        self.assemble_reduced(&w.dhat, &w.busy_vehicles, &blocks)
     }
 
     /// The wheelsets whose force can change (all but the moving forces), into `out`.
@@ -294,21 +302,31 @@ impl Monolithic {
         // the busy wheelsets' shapes, SHAPE_LANES at a time (each lane's shapes are those
         // of a lane alone)
         let lanes = &mut self.work.lanes;
-        let mut psi = &mut self.psi[..];
+        let (mut psi, mut psi_t) = (&mut self.psi[..], &mut self.psi_t[..]);
         let mut base = 0;
         for chunk in busy.chunks(SHAPE_LANES) {
             let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
+            let mut rows: [&mut [f64]; SHAPE_LANES] = Default::default();
             let mut xs = [0.0; SHAPE_LANES];
-            for ((o, x), &w) in outs.iter_mut().zip(&mut xs).zip(chunk) {
+            for (((o, r), x), &w) in outs.iter_mut().zip(&mut rows).zip(&mut xs).zip(chunk) {
                 let tail = std::mem::take(&mut psi).split_at_mut((w - base) * nb).1;
                 let (this, tail) = tail.split_at_mut(nb);
-                (*o, psi, base) = (this, tail, w + 1);
+                let tail_t = std::mem::take(&mut psi_t)
+                    .split_at_mut((w - base) * 3 * nb)
+                    .1;
+                let (this_t, tail_t) = tail_t.split_at_mut(3 * nb);
+                (*o, psi, *r, psi_t, base) = (this, tail, this_t, tail_t, w + 1);
                 *x = self.x[w];
             }
             let mut on = [false; SHAPE_LANES];
             let m = chunk.len();
-            self.bridge
-                .rail_shapes_lanes(&xs[..m], &mut outs[..m], &mut on[..m], lanes);
+            self.bridge.rail_shapes_lanes(
+                &xs[..m],
+                &mut outs[..m],
+                &mut rows[..m],
+                &mut on[..m],
+                lanes,
+            );
             for (&w, on) in chunk.iter().zip(on) {
                 self.on[w] = on;
             }
@@ -529,19 +547,23 @@ impl Monolithic {
                     w.g[f0 + l] = Vector3::new(gv[3 * l], gv[3 * l + 1], gv[3 * l + 2]);
                 }
                 crate::simd::axpy_columns(y.as_mut_slice(), rails, &cache.e_rail);
-                // Ψᵀ (g − z_l) per wheelset on the deck, z = H b_v = Ĝᵀ y
+                // Uᵀ (g − z) of the wheelsets on the deck, z = H b_v = Ĝᵀ y
                 let z = &mut w.z[i];
                 crate::simd::mul_columns(z.as_mut_slice(), y.as_slice(), &cache.g_tr);
-                for l in 0..model.wheelsets.len() {
-                    let ws = f0 + l;
-                    if self.on[ws] {
-                        let zl = Vector3::new(z[3 * l], z[3 * l + 1], z[3 * l + 2]);
-                        psi_tr_add(
-                            &self.psi[ws * nb..(ws + 1) * nb],
-                            &(w.g[ws] - zl),
-                            w.bq.as_mut_slice(),
-                        );
+                if !w.blocks[i].is_empty() {
+                    let gz = &mut w.sx[..r3];
+                    for l in 0..model.wheelsets.len() {
+                        let ws = f0 + l;
+                        let d = &mut gz[3 * l..3 * l + 3];
+                        if self.on[ws] {
+                            for k in 0..3 {
+                                d[k] = w.g[ws][k] - z[3 * l + k];
+                            }
+                        } else {
+                            d.fill(0.0);
+                        }
                     }
+                    block_tr_add(self.block_t(i), gz, w.bq.as_mut_slice());
                 }
             }
         }
@@ -607,10 +629,19 @@ impl Monolithic {
         }
     }
 
+    /// Vehicle `i`'s `U` rail DOF after rail DOF: its wheelsets' rows of
+    /// [`Monolithic::psi_t`].
+    fn block_t(&self, i: usize) -> &[f64] {
+        let (nb, f0) = (self.q.len(), self.first_ws[i]);
+        let nwi = self.train.vehicles[i].model.wheelsets.len();
+        &self.psi_t[3 * nb * f0..3 * nb * (f0 + nwi)]
+    }
+
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled): per vehicle
     /// `U x` as one sum over the modes of the gathered `U` ([`Monolithic::gather_blocks`]; each
-    /// rail value summed over the modes in order, as one wheelset's `Ψ q` sums them), `S (U x)` with the dense
-    /// `S` (column order), and `Uᵀ` of that per wheelset on the deck.
+    /// rail value summed over the modes in order, as one wheelset's `Ψ q` sums them),
+    /// `S (U x)` with the dense `S` (column order), and `Uᵀ` of that as one product over the
+    /// vehicle's rows of [`Monolithic::psi_t`] ([`block_tr_add`]).
     #[allow(clippy::too_many_arguments)]
     fn apply_reduced_with(
         &self,
@@ -631,19 +662,11 @@ impl Monolithic {
             if u.is_empty() || self.cache[i].s_dense.is_empty() {
                 continue;
             }
-            let f0 = self.first_ws[i];
-            let nwi = self.train.vehicles[i].model.wheelsets.len();
-            let r = 3 * nwi;
+            let r = 3 * self.train.vehicles[i].model.wheelsets.len();
             let (ux, sx) = (&mut ux[..r], &mut sx[..r]);
             block_mul(u, x, ux);
             crate::simd::mul_columns(sx, ux, &self.cache[i].s_dense);
-            for l in 0..nwi {
-                let ws = f0 + l;
-                if self.on[ws] {
-                    let f = Vector3::new(sx[3 * l], sx[3 * l + 1], sx[3 * l + 2]);
-                    psi_tr_add(&self.psi[ws * nb..(ws + 1) * nb], &f, y);
-                }
-            }
+            block_tr_add(self.block_t(i), sx, y);
         }
     }
 
@@ -663,7 +686,8 @@ impl Monolithic {
         let lagged = w.costs.lagged();
         if lagged && w.pre.is_none() {
             // None (not positive definite) leaves the step to the direct solver
-            let Some(inverse) = spd_inverse(self.assemble_reduced(&w.dhat, &w.busy_vehicles))
+            let Some(inverse) =
+                spd_inverse(self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.blocks))
             else {
                 return false;
             };
@@ -771,58 +795,42 @@ impl Monolithic {
 
     /// Assemble `A = D̂ + Σ Uᵀ S U` and solve by Cholesky.
     fn solve_direct(&self, w: &Work) -> DVector<f64> {
-        self.assemble_reduced(&w.dhat, &w.busy_vehicles)
+        self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.blocks)
             .cholesky()
             .expect("reduced bridge matrix is positive definite")
             .solve(&w.bq)
     }
 
-    /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions: per vehicle `U` gathered into
-    /// rows, `S U` by the sparse rows of `S`, then `A += Σ_r U_rᵀ (S U)_r`, one rank-one
-    /// update per rail DOF, each column's upper part a contiguous multiply-add, and the
-    /// lower triangle copied from the upper (`A` is symmetric, `S` being so; off-deck
-    /// wheelsets have zero shapes and are left out).
-    fn assemble_reduced(&self, dhat: &DVector<f64>, vehicles: &[usize]) -> DMatrix<f64> {
+    /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions, from each busy vehicle's `U`
+    /// in its two layouts (`blocks` as [`Monolithic::gather_blocks`] leaves them, and
+    /// [`Monolithic::block_t`]): column `n` of `S U` is `S` times column `n` of `U` (the
+    /// mode-major block's `n`-th run), and column `n` of `Uᵀ (S U)` is the rail-major rows
+    /// taken with those values, each a product over whole columns; the upper triangle is
+    /// then mirrored below, so that `A` is symmetric bit for bit (off-deck wheelsets have
+    /// zero shapes and add exact zeros).
+    fn assemble_reduced(
+        &self,
+        dhat: &DVector<f64>,
+        vehicles: &[usize],
+        blocks: &[Vec<f64>],
+    ) -> DMatrix<f64> {
         let nb = dhat.len();
         let mut a = vec![0.0; nb * nb];
         for n in 0..nb {
             a[n * nb + n] = dhat[n];
         }
-        let (mut u, mut su, mut coeffs) = (Vec::new(), Vec::new(), Vec::new());
+        let mut su = Vec::new();
         for &i in vehicles {
-            let f0 = self.first_ws[i];
-            let nwi = self.train.vehicles[i].model.wheelsets.len();
-            let s = &self.cache[i].s_dense;
-            if s.is_empty() || !(f0..f0 + nwi).any(|ws| self.on[ws]) {
+            let (u, s) = (&blocks[i], &self.cache[i].s_dense);
+            if s.is_empty() || u.is_empty() {
                 continue;
             }
-            // u[r nb + n] = U[r, n], rail DOF r = 3 l + k of wheelset l
-            u.clear();
-            u.resize(3 * nwi * nb, 0.0);
-            for l in (0..nwi).filter(|&l| self.on[f0 + l]) {
-                let psi = &self.psi[(f0 + l) * nb..(f0 + l + 1) * nb];
-                for (n, p) in psi.iter().enumerate() {
-                    for k in 0..3 {
-                        u[(3 * l + k) * nb + n] = p[k];
-                    }
-                }
-            }
-            // (S U)[r] = Σ_c S[r, c] U[c] over the rail DOFs c in order, and the upper
-            // triangle (rows 0..=j of column j), mirrored below at the end: column j takes
-            // Σ_r (S U)[r, j] U[r, 0..=j] over the rail DOFs r in order (a zero coefficient
-            // adds an exact zero: the shapes are finite)
-            let m = 3 * nwi;
-            su.clear();
-            su.resize(m * nb, 0.0);
-            for (r, out) in su.chunks_exact_mut(nb).enumerate() {
-                coeffs.clear();
-                coeffs.extend((0..m).map(|c| s[c * m + r]));
-                crate::simd::axpy_columns_strided(out, &coeffs, &u, nb);
-            }
-            for (j, col) in a.chunks_exact_mut(nb).enumerate() {
-                coeffs.clear();
-                coeffs.extend((0..m).map(|r| su[r * nb + j]));
-                crate::simd::axpy_columns_strided(&mut col[..=j], &coeffs, &u, nb);
+            let m = u.len() / nb;
+            su.resize(m, 0.0);
+            let ut = self.block_t(i);
+            for (col, un) in a.chunks_exact_mut(nb).zip(u.chunks_exact(m)) {
+                crate::simd::mul_columns(&mut su, un, s);
+                crate::simd::axpy_columns(col, &su, ut);
             }
         }
         for j in 0..nb {
@@ -930,6 +938,13 @@ fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut
             }
         }
     }
+}
+
+/// `y += Uᵀ s` for a vehicle's `U` rail DOF after rail DOF (`ut[(3l + k) N_b + n]`, its
+/// wheelsets' rows of [`Monolithic::psi_t`]): the rail DOFs' columns added in order (`s`
+/// finite: the zero rows of wheelsets off the deck add exact zeros).
+fn block_tr_add(ut: &[f64], s: &[f64], y: &mut [f64]) {
+    crate::simd::axpy_columns(y, s, ut);
 }
 
 /// `out = U x` for a gathered block `u` ([`gather_block`]): each value summed over the modes
@@ -1197,9 +1212,11 @@ mod tests {
 
     /// A vehicle's gathered block gives each wheelset's `Ψ q` bit for bit as one [`psi_mul`]
     /// per wheelset does, for one to nine wheelsets, and zeros for the wheelsets left out
-    /// (also where the block held them before).
+    /// (also where the block held them before); its rows rail DOF after rail DOF (a zero row
+    /// for a wheelset off the deck) give `Σ Ψᵀ f` of the wheelsets on the deck as one
+    /// projection per wheelset does, to round-off of the terms' magnitudes.
     #[test]
-    fn a_gathered_block_gives_each_wheelsets_product() {
+    fn a_vehicles_blocks_give_each_wheelsets_products() {
         let nb = 23;
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut next = || {
@@ -1213,7 +1230,7 @@ mod tests {
             .collect();
         for nw in 1..=9 {
             let psi: Vec<[f64; 3]> = (0..nw * nb).map(|_| [next(), next(), next()]).collect();
-            // the block of an earlier step, all wheelsets in, is reused
+            // the block of an earlier step, all wheelsets in, is reused; wheelset 1 is off
             let (mut u, mut out) = (Vec::new(), vec![f64::NAN; 3 * nw]);
             gather_block(&psi, nb, |_| true, &mut u);
             gather_block(&psi, nb, |l| l != 1, &mut u);
@@ -1228,6 +1245,40 @@ mod tests {
                     assert_eq!(out[3 * l + k].to_bits(), one[k].to_bits(), "{nw} wheelsets");
                 }
             }
+            let mut ut = vec![0.0; 3 * nw * nb];
+            for l in (0..nw).filter(|&l| l != 1) {
+                for k in 0..3 {
+                    for n in 0..nb {
+                        ut[(3 * l + k) * nb + n] = psi[l * nb + n][k];
+                    }
+                }
+            }
+            let f: Vec<f64> = (0..3 * nw).map(|_| next() * 1e5).collect();
+            let y0: Vec<f64> = (0..nb).map(|_| next()).collect();
+            let mut got = y0.clone();
+            block_tr_add(&ut, &f, &mut got);
+            let (mut want, mut scale) =
+                (y0.clone(), y0.iter().map(|v| v.abs()).collect::<Vec<_>>());
+            for l in (0..nw).filter(|&l| l != 1) {
+                let shapes = &psi[l * nb..(l + 1) * nb];
+                crate::simd::project_force(
+                    &mut want,
+                    shapes,
+                    [f[3 * l], f[3 * l + 1], f[3 * l + 2]],
+                );
+                for (s, p) in scale.iter_mut().zip(shapes) {
+                    *s += (0..3).map(|k| (p[k] * f[3 * l + k]).abs()).sum::<f64>();
+                }
+            }
+            for n in 0..nb {
+                let tol = 4.0 * f64::EPSILON * scale[n];
+                assert!((got[n] - want[n]).abs() <= tol, "{nw} wheelsets, mode {n}");
+            }
+            // and nothing but the wheelsets on the deck: with all of them off, y is unchanged
+            ut.fill(0.0);
+            let mut none = y0.clone();
+            block_tr_add(&ut, &f, &mut none);
+            assert_eq!(none, y0);
         }
     }
 
