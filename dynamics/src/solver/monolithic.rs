@@ -57,8 +57,9 @@ struct VehicleCache {
     /// S = Ŵ − Ĝᵀ K̂⁻¹ Ĝ (3n_w × 3n_w), column after column, its structural zeros exact
     /// ([`structural`]; empty when S = 0).
     s_dense: Vec<f64>,
-    /// H = Ĝᵀ K̂⁻¹ (3n_w × n).
-    h: DMatrix<f64>,
+    /// `−Hᵀ = −K̂⁻¹ Ĝ` (n × 3n_w, column after column): the back-substitution
+    /// `v₁ = K̂⁻¹ b_v − Hᵀ U q₁` adds this times `U q₁`.
+    h_neg_t: Vec<f64>,
     /// `K̂⁻¹ [a0 M + a1 C   a2 M + C   M]` (n × 3n, column after column): `K̂⁻¹ (M v_m + C v_c)`
     /// of the Newmark predictors `v_m = a0 v + a2 v̇ + v̈`, `v_c = a1 v + v̇` is this times
     /// `(v, v̇, v̈)`.
@@ -597,7 +598,7 @@ impl Monolithic {
             // the scratch of the wind's share takes v1 = K̂⁻¹ b_v − Hᵀ U q₁
             let v1 = &mut w.vm[i];
             v1.copy_from(&w.bv[i]);
-            v1.gemv_tr(-1.0, &cache.h, uq, 1.0);
+            crate::simd::axpy_columns(v1.as_mut_slice(), uq.as_slice(), &cache.h_neg_t);
             let changed = self.vehicles[i].newmark_update(&nm, v1);
             // at rest: the same inputs (no deck, no prescribed motion, no wind) next step
             w.resting[i] = !changed
@@ -804,10 +805,10 @@ impl Monolithic {
     /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions, from each busy vehicle's `U`
     /// in its two layouts (`blocks` as [`Monolithic::gather_blocks`] leaves them, and
     /// [`Monolithic::block_t`]): column `n` of `S U` is `S` times column `n` of `U` (the
-    /// mode-major block's `n`-th run), and column `n` of `Uᵀ (S U)` is the rail-major rows
-    /// taken with those values, each a product over whole columns; the upper triangle is
-    /// then mirrored below, so that `A` is symmetric bit for bit (off-deck wheelsets have
-    /// zero shapes and add exact zeros).
+    /// mode-major block's `n`-th run), and the upper part (rows `0..=n`) of column `n` of
+    /// `Uᵀ (S U)` is the rail-major rows' first `n + 1` values taken with those, each a
+    /// product over whole columns; the upper triangle is then mirrored below, so that `A` is
+    /// symmetric bit for bit (off-deck wheelsets have zero shapes and add exact zeros).
     fn assemble_reduced(
         &self,
         dhat: &DVector<f64>,
@@ -828,9 +829,9 @@ impl Monolithic {
             let m = u.len() / nb;
             su.resize(m, 0.0);
             let ut = self.block_t(i);
-            for (col, un) in a.chunks_exact_mut(nb).zip(u.chunks_exact(m)) {
+            for (n, (col, un)) in a.chunks_exact_mut(nb).zip(u.chunks_exact(m)).enumerate() {
                 crate::simd::mul_columns(&mut su, un, s);
-                crate::simd::axpy_columns(col, &su, ut);
+                crate::simd::axpy_columns_strided(&mut col[..=n], &su, ut, nb);
             }
         }
         for j in 0..nb {
@@ -928,14 +929,10 @@ fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut
     // every entry is written below: the block is not cleared first
     u.resize(nb * r, 0.0);
     for (l, shapes) in psi.chunks_exact(nb.max(1)).enumerate() {
-        if on(l) {
-            for (n, p) in shapes.iter().enumerate() {
-                u[n * r + 3 * l..n * r + 3 * l + 3].copy_from_slice(p);
-            }
-        } else {
-            for n in 0..nb {
-                u[n * r + 3 * l..n * r + 3 * l + 3].fill(0.0);
-            }
+        let on = on(l);
+        for (row, p) in u.chunks_exact_mut(r).zip(shapes) {
+            let d: &mut [f64; 3] = (&mut row[3 * l..3 * l + 3]).try_into().expect("3 values");
+            *d = if on { *p } else { [0.0; 3] };
         }
     }
 }
@@ -1143,7 +1140,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
             chol: None,
             cvw_t,
             s_dense: structural(&s),
-            h: DMatrix::zeros(3 * nw, 0),
+            h_neg_t: Vec::new(),
             e_state: Vec::new(),
             e_rail: Vec::new(),
             g_tr: Vec::new(),
@@ -1164,7 +1161,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     }
     let kinv_g = chol.solve(&g); // n × 3nw
     s -= g.tr_mul(&kinv_g);
-    let h = kinv_g.transpose();
+    let h_neg_t = (-&kinv_g).as_slice().to_vec();
     let mut state = DMatrix::zeros(n, 3 * n);
     state
         .columns_mut(0, n)
@@ -1185,7 +1182,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         chol: Some(SparseCholesky::of(&chol)),
         cvw_t,
         s_dense: structural(&s),
-        h,
+        h_neg_t,
         e_state,
         e_rail,
         g_tr,
