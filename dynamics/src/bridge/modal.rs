@@ -296,12 +296,13 @@ impl ModalBridge {
                 (true, Some(r)) => {
                     let (r0, r12) = r[..3 * nb].split_at_mut(nb);
                     let (r1, r2) = r12.split_at_mut(nb);
-                    let lanes = out.iter_mut().zip(half_waves).zip(amplitudes);
-                    for (n, ((o, &k), a)) in lanes.enumerate() {
+                    let rows = r0.iter_mut().zip(r1.iter_mut()).zip(r2.iter_mut());
+                    let lanes = out.iter_mut().zip(half_waves).zip(amplitudes).zip(rows);
+                    for (((o, &k), a), ((r0, r1), r2)) in lanes {
                         let sk = s[k as usize][j];
                         let v = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
                         *o = v;
-                        (r0[n], r1[n], r2[n]) = (v[0], v[1], v[2]);
+                        (*r0, *r1, *r2) = (v[0], v[1], v[2]);
                     }
                 }
             }
