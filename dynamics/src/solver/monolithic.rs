@@ -678,14 +678,20 @@ impl Monolithic {
     /// wheelsets), the inverse of the reduced matrix of an earlier step, `A_k = D̂ + Σ Uᵀ S U` at
     /// the wheelset positions of step k (the matrix changes only as the wheelsets move, so a
     /// few iterations suffice), started from `A_k⁻¹ b` and re-assembled when the iterations
-    /// beyond the fewest since its assembly have cost as much as an assembly; otherwise `D̂`,
+    /// beyond the fewest of the steps after its assembly have cost as much as an assembly
+    /// (the step of the assembly itself needs none; on the bench case the step after it 2.9
+    /// on average, the tenth 3.7: the count grows slowly with the matrix's change, so the
+    /// fewest at the assembly would renew it far too often); otherwise `D̂`,
     /// started from `D̂⁻¹ b` plus the coupling correction of the previous step. The solution
     /// is left in `w.cg_x`; returns false when it has not reached round-off level within
     /// [`MAX_CG_ITERATIONS`], so that the direct solver takes over.
     fn solve_iterative(&self, w: &mut Work) -> bool {
         let nb = w.bq.len();
         let lagged = w.costs.lagged();
-        if lagged && w.pre.is_none() {
+        // the preconditioner made at this step's own positions (its iterations count for
+        // nothing: the steps after it are what a lagged one is judged by)
+        let fresh = lagged && w.pre.is_none();
+        if fresh {
             // None (not positive definite) leaves the step to the direct solver
             let Some(inverse) =
                 spd_inverse(self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.blocks))
@@ -757,7 +763,7 @@ impl Monolithic {
                         correction[n] = x[n] - b[n] / dhat[n];
                     }
                 }
-                if lagged {
+                if lagged && !fresh {
                     w.pre_fewest = w.pre_fewest.min(it);
                     w.pre_extra += it - w.pre_fewest;
                     if w.pre_extra as f64 * w.costs.iteration() > w.costs.assembly {
@@ -893,9 +899,9 @@ impl Costs {
 
     /// Whether the inverse of an earlier step's matrix is the preconditioner: when a product
     /// with it costs at most a quarter of an application of `A` (measured: 20 modes under 32
-    /// wheelsets, the bench case, 2.44 iterations per solve and an assembly every 6.2 steps;
-    /// the default Tsing Ma case 1.50 and 9.3; not 200 modes under 128 wheelsets, whose
-    /// matrix costs as much as the application, and where `D̂` was measured faster).
+    /// wheelsets, the bench case, 3.3 iterations per solve and an assembly every 23 steps;
+    /// not 200 modes under 128 wheelsets, whose matrix costs as much as the application, and
+    /// where `D̂` was measured faster).
     fn lagged(&self) -> bool {
         4.0 * self.inverse_product <= self.apply
     }
