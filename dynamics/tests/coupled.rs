@@ -122,6 +122,41 @@ fn the_rail_motion_after_a_step_is_the_decks_at_the_new_state() {
     assert!(on_deck > 1000);
 }
 
+/// The wheel forces a step leaves, taken from the eliminated system (`g − z − S U q₁`, the
+/// force the bridge's equation saw), equal eq. (6) evaluated with the full blocks
+/// ([`tbi_dynamics::vehicle::LinearVehicle::wheel_force`]) at the new state and rail motion,
+/// to round-off of the static wheel load: two coaches on an irregular track onto, over and
+/// off a bridge with lateral, vertical and torsional modes.
+#[test]
+fn the_wheel_forces_after_a_step_are_eq_6_at_the_new_state() {
+    let bridge = bridge_3d(2.05, 1.25, 0.02);
+    let train = two_coaches(160.0 / 3.6, -40.0, false);
+    let mut sol = Monolithic::new(bridge, train, Arc::new(Waves), 2e-3);
+    let (mut checked, mut worst) = (0, 0.0_f64);
+    while sol.t < 3.0 {
+        sol.step();
+        for (w, ws) in sol.wheelsets.iter().enumerate() {
+            let model = &sol.train.vehicles[ws.vehicle].model;
+            let state = &sol.vehicles[ws.vehicle];
+            let [u, ud, udd] = &sol.rail[w];
+            let want = model.wheel_force(ws.local, &state.v, &state.vd, u, ud, udd);
+            let load = model.wheelsets[ws.local].p0.amax();
+            let e = (sol.forces[w] - want).amax() / load;
+            worst = worst.max(e);
+            assert!(
+                e <= 1e-11,
+                "wheelset {w} at t = {} s: {:?} against eq. (6) {:?}",
+                sol.t,
+                sol.forces[w],
+                want
+            );
+            checked += 1;
+        }
+    }
+    println!("largest difference {worst:.2e} of the static wheel load over {checked} forces");
+    assert!(checked > 10_000);
+}
+
 /// The reduced bridge matrix the step solves with, `D̂ + Σ Uᵀ S U` (assembled in its upper
 /// triangle), is the Schur complement of the dense Newmark matrix `a0 M + a1 C + K` of
 /// eq. (14) onto the bridge's modes, `K̂_bb − K̂_bv K̂_vv⁻¹ K̂_vb`, and symmetric bit for bit:

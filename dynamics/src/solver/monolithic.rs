@@ -432,11 +432,18 @@ impl Monolithic {
     /// given ([`Self::deck_motion_into`]).
     fn finish_outputs(&mut self, deck: &[[Vector3<f64>; 3]]) {
         let all: Vec<usize> = (0..self.wheelsets.len()).collect();
-        self.finish_outputs_of(&all, deck);
+        self.finish_outputs_of(&all, deck, None);
     }
 
-    /// [`Self::finish_outputs`] of the wheelsets `busy` (the others keep theirs).
-    fn finish_outputs_of(&mut self, busy: &[usize], deck: &[[Vector3<f64>; 3]]) {
+    /// [`Self::finish_outputs`] of the wheelsets `busy` (the others keep theirs). With
+    /// `stepped`, the forces of the wheelsets of vehicles with DOFs are taken from it (the
+    /// step's `g − z − S U q₁`) instead of being evaluated from eq. (6) again.
+    fn finish_outputs_of(
+        &mut self,
+        busy: &[usize],
+        deck: &[[Vector3<f64>; 3]],
+        stepped: Option<&[Vector3<f64>]>,
+    ) {
         for &w in busy {
             let p = self.presc[w];
             let [u, ud, udd] = if self.on[w] {
@@ -446,8 +453,11 @@ impl Monolithic {
                 p
             };
             self.rail[w] = [u, ud, udd];
-            let state = &self.vehicles[self.wheelsets[w].vehicle];
-            self.forces[w] = self.wheel_forces[w].force(state, &self.rail[w]);
+            let v = self.wheelsets[w].vehicle;
+            self.forces[w] = match stepped {
+                Some(f) if self.train.vehicles[v].model.ndof() > 0 => f[w],
+                _ => self.wheel_forces[w].force(&self.vehicles[v], &self.rail[w]),
+            };
         }
     }
 
@@ -527,39 +537,41 @@ impl Monolithic {
                     rails.extend_from_slice(r.as_slice());
                     rails.extend_from_slice((rd - pv).as_slice());
                 }
-                if on {
+                if n > 0 || on {
                     let g = c.p0 - c.m_w * (rdd - pm) - c.k_ww * r - c.c_ww * (rd - pv);
                     if n > 0 {
                         // + C_vwᵀ v_c after the loop; Ψᵀ g goes in with the coupling
-                        // correction below
+                        // correction below (of a wheelset off the deck, g is its force's
+                        // part without the vehicle's unknowns)
                         w.gv[3 * l..3 * l + 3].copy_from_slice(g.as_slice());
                     } else {
                         psi_tr_add(psi, &g, w.bq.as_mut_slice());
                     }
-                } else if n > 0 {
-                    w.gv[3 * l..3 * l + 3].fill(0.0);
                 }
             }
             if n > 0 {
-                // g_l + C_vw,lᵀ v_c of every wheelset at once (those off the deck unused)
+                // g_l + C_vw,lᵀ v_c of every wheelset at once
                 let gv = &mut w.gv[..r3];
                 crate::simd::axpy_columns(gv, vc.as_slice(), &cache.cvw_t);
                 for l in 0..model.wheelsets.len() {
                     w.g[f0 + l] = Vector3::new(gv[3 * l], gv[3 * l + 1], gv[3 * l + 2]);
                 }
                 crate::simd::axpy_columns(y.as_mut_slice(), rails, &cache.e_rail);
-                // Uᵀ (g − z) of the wheelsets on the deck, z = H b_v = Ĝᵀ y
+                // Uᵀ (g − z) of the wheelsets on the deck, z = H b_v = Ĝᵀ y; g − z of
+                // every wheelset is its force but for − S U q₁ (the back-substitution)
                 let z = &mut w.z[i];
                 crate::simd::mul_columns(z.as_mut_slice(), y.as_slice(), &cache.g_tr);
+                for l in 0..model.wheelsets.len() {
+                    let zl = Vector3::new(z[3 * l], z[3 * l + 1], z[3 * l + 2]);
+                    w.gz[f0 + l] = w.g[f0 + l] - zl;
+                }
                 if !w.blocks[i].is_empty() {
                     let gz = &mut w.sx[..r3];
                     for l in 0..model.wheelsets.len() {
                         let ws = f0 + l;
                         let d = &mut gz[3 * l..3 * l + 3];
                         if self.on[ws] {
-                            for k in 0..3 {
-                                d[k] = w.g[ws][k] - z[3 * l + k];
-                            }
+                            d.copy_from_slice(w.gz[ws].as_slice());
                         } else {
                             d.fill(0.0);
                         }
@@ -599,6 +611,15 @@ impl Monolithic {
             let v1 = &mut w.vm[i];
             v1.copy_from(&w.bv[i]);
             crate::simd::axpy_columns(v1.as_mut_slice(), uq.as_slice(), &cache.h_neg_t);
+            // the wheelsets' forces on the rail, f = g − z − S U q₁ (eq. 6 at the new state,
+            // the vehicle eliminated as in the reduced system)
+            if !cache.s_dense.is_empty() {
+                let su = &mut w.sx[..3 * nwi];
+                crate::simd::mul_columns(su, uq.as_slice(), &cache.s_dense);
+                for l in 0..nwi {
+                    w.gz[f0 + l] -= Vector3::new(su[3 * l], su[3 * l + 1], su[3 * l + 2]);
+                }
+            }
             let changed = self.vehicles[i].newmark_update(&nm, v1);
             // at rest: the same inputs (no deck, no prescribed motion, no wind) next step
             w.resting[i] = !changed
@@ -607,7 +628,7 @@ impl Monolithic {
                 && (f0..f0 + nwi).all(|ws| !self.on[ws]);
         }
         self.t = t1;
-        self.finish_outputs_of(&w.busy, &w.deck);
+        self.finish_outputs_of(&w.busy, &w.deck, Some(&w.gz));
         self.work = w;
     }
 
@@ -1065,6 +1086,9 @@ struct Work {
     g: Vec<Vector3<f64>>,
     /// One vehicle's `g_l + C_vw,lᵀ v_c`, its wheelsets' one after the other (3 n_w).
     gv: Vec<f64>,
+    /// Per wheelset of a vehicle with DOFs: `g − z`, then its force on the rail at the end
+    /// of the step (`− S U q₁` taken off in the back-substitution).
+    gz: Vec<Vector3<f64>>,
     /// The wheelsets and vehicles the step visits, ascending ([`Monolithic::update_geometry`]).
     busy: Vec<usize>,
     busy_vehicles: Vec<usize>,
@@ -1120,6 +1144,7 @@ impl Work {
             pred: vec![[Vector3::zeros(); 2]; train.wheelsets().len()],
             g: vec![Vector3::zeros(); train.wheelsets().len()],
             gv: vec![0.0; wmax],
+            gz: vec![Vector3::zeros(); train.wheelsets().len()],
             busy: Vec::new(),
             busy_vehicles: Vec::new(),
             flat_before: false,
