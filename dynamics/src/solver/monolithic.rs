@@ -442,7 +442,7 @@ impl Monolithic {
         &mut self,
         busy: &[usize],
         deck: &[[Vector3<f64>; 3]],
-        stepped: Option<&[Vector3<f64>]>,
+        stepped: Option<&[f64]>,
     ) {
         for &w in busy {
             let p = self.presc[w];
@@ -455,7 +455,9 @@ impl Monolithic {
             self.rail[w] = [u, ud, udd];
             let v = self.wheelsets[w].vehicle;
             self.forces[w] = match stepped {
-                Some(f) if self.train.vehicles[v].model.ndof() > 0 => f[w],
+                Some(f) if self.train.vehicles[v].model.ndof() > 0 => {
+                    Vector3::new(f[3 * w], f[3 * w + 1], f[3 * w + 2])
+                }
                 _ => self.wheel_forces[w].force(&self.vehicles[v], &self.rail[w]),
             };
         }
@@ -553,29 +555,17 @@ impl Monolithic {
                 // g_l + C_vw,lᵀ v_c of every wheelset at once
                 let gv = &mut w.gv[..r3];
                 crate::simd::axpy_columns(gv, vc.as_slice(), &cache.cvw_t);
-                for l in 0..model.wheelsets.len() {
-                    w.g[f0 + l] = Vector3::new(gv[3 * l], gv[3 * l + 1], gv[3 * l + 2]);
-                }
                 crate::simd::axpy_columns(y.as_mut_slice(), rails, &cache.e_rail);
-                // Uᵀ (g − z) of the wheelsets on the deck, z = H b_v = Ĝᵀ y; g − z of
-                // every wheelset is its force but for − S U q₁ (the back-substitution)
+                // g − z of every wheelset, z = H b_v = Ĝᵀ y: its force but for − S U q₁
+                // (taken off in the back-substitution); Uᵀ (g − z) into the bridge's
+                // right-hand side (the zero rows of wheelsets off the deck add nothing)
                 let z = &mut w.z[i];
                 crate::simd::mul_columns(z.as_mut_slice(), y.as_slice(), &cache.g_tr);
-                for l in 0..model.wheelsets.len() {
-                    let zl = Vector3::new(z[3 * l], z[3 * l + 1], z[3 * l + 2]);
-                    w.gz[f0 + l] = w.g[f0 + l] - zl;
+                let gz = &mut w.gz[3 * f0..3 * f0 + r3];
+                for ((d, g), z) in gz.iter_mut().zip(gv.iter()).zip(z.iter()) {
+                    *d = g - z;
                 }
                 if !w.blocks[i].is_empty() {
-                    let gz = &mut w.sx[..r3];
-                    for l in 0..model.wheelsets.len() {
-                        let ws = f0 + l;
-                        let d = &mut gz[3 * l..3 * l + 3];
-                        if self.on[ws] {
-                            d.copy_from_slice(w.gz[ws].as_slice());
-                        } else {
-                            d.fill(0.0);
-                        }
-                    }
                     block_tr_add(self.block_t(i), gz, w.bq.as_mut_slice());
                 }
             }
@@ -616,8 +606,8 @@ impl Monolithic {
             if !cache.s_dense.is_empty() {
                 let su = &mut w.sx[..3 * nwi];
                 crate::simd::mul_columns(su, uq.as_slice(), &cache.s_dense);
-                for l in 0..nwi {
-                    w.gz[f0 + l] -= Vector3::new(su[3 * l], su[3 * l + 1], su[3 * l + 2]);
+                for (f, s) in w.gz[3 * f0..3 * (f0 + nwi)].iter_mut().zip(su.iter()) {
+                    *f -= s;
                 }
             }
             let changed = self.vehicles[i].newmark_update(&nm, v1);
@@ -1081,14 +1071,11 @@ struct Work {
     /// (`Ψ q_c`, `Ψ q_m`), from which the rail's velocity and acceleration at the end of the
     /// step follow with `Ψ q₁` ([`Monolithic::deck_motion_at_end`]).
     pred: Vec<[Vector3<f64>; 2]>,
-    /// Per wheelset on the deck: its force's share of the bridge's right-hand side before the
-    /// vehicle's coupling correction (`g`), applied with it in one pass.
-    g: Vec<Vector3<f64>>,
     /// One vehicle's `g_l + C_vw,lᵀ v_c`, its wheelsets' one after the other (3 n_w).
     gv: Vec<f64>,
-    /// Per wheelset of a vehicle with DOFs: `g − z`, then its force on the rail at the end
-    /// of the step (`− S U q₁` taken off in the back-substitution).
-    gz: Vec<Vector3<f64>>,
+    /// Per wheelset of a vehicle with DOFs (three values each): `g − z`, then its force on
+    /// the rail at the end of the step (`− S U q₁` taken off in the back-substitution).
+    gz: Vec<f64>,
     /// The wheelsets and vehicles the step visits, ascending ([`Monolithic::update_geometry`]).
     busy: Vec<usize>,
     busy_vehicles: Vec<usize>,
@@ -1142,9 +1129,8 @@ impl Work {
             lanes: Vec::new(),
             deck: Vec::new(),
             pred: vec![[Vector3::zeros(); 2]; train.wheelsets().len()],
-            g: vec![Vector3::zeros(); train.wheelsets().len()],
             gv: vec![0.0; wmax],
-            gz: vec![Vector3::zeros(); train.wheelsets().len()],
+            gz: vec![0.0; 3 * train.wheelsets().len()],
             busy: Vec::new(),
             busy_vehicles: Vec::new(),
             flat_before: false,
