@@ -248,8 +248,8 @@ impl ModalBridge {
     /// is a chain of dependent multiplies and subtractions, which leaves the processor
     /// waiting), and the rail map is applied as each value is made instead of in a second
     /// pass. `scratch` keeps the sines (it only grows, so repeated calls do not allocate).
-    /// Unless `rows` is empty, `rows[j]` also takes the same shapes as three rows of the
-    /// modes' values, component after component (`rows[j][k N + n] = outs[j][n][k]`).
+    /// `rows[j]` takes the same shapes as three rows of the modes' values, component after
+    /// component (`rows[j][k N + n] = outs[j][n][k]`).
     pub fn rail_shapes_lanes(
         &self,
         xs: &[f64],
@@ -261,7 +261,7 @@ impl ModalBridge {
         let m = xs.len();
         let nb = self.n_modes();
         assert!(m <= SHAPE_LANES && outs.len() >= m && on.len() >= m);
-        assert!(rows.is_empty() || rows.len() >= m);
+        assert!(rows.len() >= m);
         let Shapes::Sine {
             span_m,
             half_waves,
@@ -270,41 +270,28 @@ impl ModalBridge {
         else {
             for j in 0..m {
                 on[j] = self.rail_shapes(xs[j], outs[j]);
-                if let Some(r) = rows.get_mut(j) {
-                    components_into(outs[j], r);
-                }
+                components_into(outs[j], rows[j]);
             }
             return;
         };
         let s = self.lane_sines(*span_m, half_waves, xs, on, scratch);
         for j in 0..m {
-            let out = &mut *outs[j];
+            let (out, r) = (&mut *outs[j], &mut rows[j][..3 * nb]);
             debug_assert_eq!(out.len(), nb);
-            match (on[j], rows.get_mut(j)) {
-                (false, r) => {
-                    out.iter_mut().for_each(|o| *o = [0.0; 3]);
-                    if let Some(r) = r {
-                        r[..3 * nb].fill(0.0);
-                    }
-                }
-                (true, None) => {
-                    for ((o, &k), a) in out.iter_mut().zip(half_waves).zip(amplitudes) {
-                        let sk = s[k as usize][j];
-                        *o = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
-                    }
-                }
-                (true, Some(r)) => {
-                    let (r0, r12) = r[..3 * nb].split_at_mut(nb);
-                    let (r1, r2) = r12.split_at_mut(nb);
-                    let rows = r0.iter_mut().zip(r1.iter_mut()).zip(r2.iter_mut());
-                    let lanes = out.iter_mut().zip(half_waves).zip(amplitudes).zip(rows);
-                    for (((o, &k), a), ((r0, r1), r2)) in lanes {
-                        let sk = s[k as usize][j];
-                        let v = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
-                        *o = v;
-                        (*r0, *r1, *r2) = (v[0], v[1], v[2]);
-                    }
-                }
+            if !on[j] {
+                out.iter_mut().for_each(|o| *o = [0.0; 3]);
+                r.fill(0.0);
+                continue;
+            }
+            let (r0, r12) = r.split_at_mut(nb);
+            let (r1, r2) = r12.split_at_mut(nb);
+            let rows = r0.iter_mut().zip(r1.iter_mut()).zip(r2.iter_mut());
+            let lanes = out.iter_mut().zip(half_waves).zip(amplitudes).zip(rows);
+            for (((o, &k), a), ((r0, r1), r2)) in lanes {
+                let sk = s[k as usize][j];
+                let v = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
+                *o = v;
+                (*r0, *r1, *r2) = (v[0], v[1], v[2]);
             }
         }
     }
@@ -712,9 +699,10 @@ mod tests {
         assert_eq!(out, vec![[0.0; 3]; 3]);
     }
 
-    /// [`ModalBridge::rail_shapes_lanes`] gives [`ModalBridge::rail_shapes`] bit for bit: sine
-    /// shapes of many half-waves (and none), nodal shapes, one to four lanes, positions on
-    /// and off the deck, one scratch shared by bridges of different sizes.
+    /// [`ModalBridge::rail_shapes_lanes`] gives [`ModalBridge::rail_shapes`] bit for bit, and
+    /// its rows the same values by component: sine shapes of many half-waves (and none),
+    /// nodal shapes, one to four lanes, positions on and off the deck, one scratch shared by
+    /// bridges of different sizes.
     #[test]
     fn rail_shapes_lanes_equal_rail_shapes_bit_for_bit() {
         let sine = |half_waves: Vec<u32>| {
@@ -783,22 +771,15 @@ mod tests {
                     let mut bufs = vec![vec![[f64::NAN; 3]; n]; lanes];
                     let mut outs: Vec<&mut [[f64; 3]]> =
                         bufs.iter_mut().map(|b| b.as_mut_slice()).collect();
-                    let mut on = [true; SHAPE_LANES];
-                    b.rail_shapes_lanes(x, &mut outs, &mut [], &mut on, &mut scratch);
-                    // with the rows of the components: the same shapes, and the rows theirs
-                    let mut bufs2 = vec![vec![[f64::NAN; 3]; n]; lanes];
-                    let mut outs2: Vec<&mut [[f64; 3]]> =
-                        bufs2.iter_mut().map(|b| b.as_mut_slice()).collect();
                     let mut rows = vec![vec![f64::NAN; 3 * n]; lanes];
                     let mut rows_of: Vec<&mut [f64]> =
                         rows.iter_mut().map(|r| r.as_mut_slice()).collect();
-                    let mut on2 = [true; SHAPE_LANES];
-                    b.rail_shapes_lanes(x, &mut outs2, &mut rows_of, &mut on2, &mut scratch);
-                    assert_eq!(on2, on);
+                    let mut on = [true; SHAPE_LANES];
+                    b.rail_shapes_lanes(x, &mut outs, &mut rows_of, &mut on, &mut scratch);
+                    // the rows are the shapes' components, bit for bit
                     for j in 0..lanes {
-                        for (i, p) in bufs2[j].iter().enumerate() {
+                        for (i, p) in bufs[j].iter().enumerate() {
                             for k in 0..3 {
-                                assert_eq!(p[k].to_bits(), bufs[j][i][k].to_bits());
                                 assert_eq!(rows[j][k * n + i].to_bits(), p[k].to_bits());
                             }
                         }
