@@ -94,6 +94,28 @@ pub fn project_force(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
     project_force_body(y, psi, f)
 }
 
+/// [`project_force`] of shapes stored as three rows, `rows = [r₀ | r₁ | r₂]` of `y.len()`
+/// values each: `y[n] ← y[n] + ((r₀[n] f[0] + r₁[n] f[1]) + r₂[n] f[2])`, the same roundings.
+#[inline]
+pub fn project_rows(y: &mut [f64], rows: &[f64], f: [f64; 3]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked just above).
+        return unsafe { project_rows_avx2(y, rows, f) };
+    }
+    project_rows_body(y, rows, f)
+}
+
+#[inline(always)]
+fn project_rows_body(y: &mut [f64], rows: &[f64], f: [f64; 3]) {
+    let n = y.len();
+    let (r0, r12) = rows[..3 * n].split_at(n);
+    let (r1, r2) = r12.split_at(n);
+    for (((o, a), b), c) in y.iter_mut().zip(r0).zip(r1).zip(r2) {
+        *o += a * f[0] + b * f[1] + c * f[2];
+    }
+}
+
 #[inline(always)]
 fn project_force_body(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
     for (o, p) in y.iter_mut().zip(psi) {
@@ -299,6 +321,12 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
+fn project_rows_avx2(y: &mut [f64], rows: &[f64], f: [f64; 3]) {
+    project_rows_body(y, rows, f)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
 fn project_force_avx2(y: &mut [f64], psi: &[[f64; 3]], f: [f64; 3]) {
     project_force_body(y, psi, f)
 }
@@ -389,6 +417,18 @@ mod tests {
             assert!(
                 e.iter().zip(&g).all(|(e, g)| e.to_bits() == g.to_bits()),
                 "project_force, n = {n}"
+            );
+            // the same shapes as rows: the same values bit for bit, either build
+            let rows: Vec<f64> = (0..3).flat_map(|k| psi.iter().map(move |p| p[k])).collect();
+            let (mut h, mut i) = (values(n, 0.9), values(n, 0.9));
+            project_rows(&mut h, &rows, f);
+            project_rows_body(&mut i, &rows, f);
+            assert!(
+                e.iter()
+                    .zip(&h)
+                    .chain(e.iter().zip(&i))
+                    .all(|(e, h)| e.to_bits() == h.to_bits()),
+                "project_rows, n = {n}"
             );
             let mut acc_a = [[0.1, 0.2, 0.3, 0.0], [1.0, -2.0, 3.0, 0.0], [0.0; 4]];
             let mut acc_b = acc_a;

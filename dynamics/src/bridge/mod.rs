@@ -6,7 +6,7 @@ pub mod modal;
 pub use tbi_modes as modes_file;
 pub mod simply_supported;
 
-pub use modal::{ModalBridge, Shapes, SHAPE_LANES};
+pub use modal::{LaneScratch, ModalBridge, Shapes, SHAPE_LANES};
 pub use simply_supported::SimplySupported;
 pub use tbi_modes::{Mode, ModeSet, FORMAT_TAG};
 

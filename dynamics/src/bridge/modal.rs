@@ -29,6 +29,14 @@ pub type SineModes<'a> = (&'a [u32], &'a [[f64; 3]], usize);
 /// How many positions [`ModalBridge::rail_shapes_lanes`] takes at once.
 pub const SHAPE_LANES: usize = 4;
 
+/// Scratch of [`ModalBridge::rail_shapes_lanes`]: the sines of the lanes' positions, and one
+/// lane's nodal shapes. It only grows.
+#[derive(Debug, Clone, Default)]
+pub struct LaneScratch {
+    sines: Vec<[f64; SHAPE_LANES]>,
+    shapes: Vec<[f64; 3]>,
+}
+
 /// How the mode shapes are represented.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Shapes {
@@ -242,55 +250,64 @@ impl ModalBridge {
         on
     }
 
-    /// [`Self::rail_shapes`] at up to [`SHAPE_LANES`] positions at once: `outs[j]` ← Ψ(`xs[j]`),
-    /// `on[j]` whether `xs[j]` is on the deck; the same values bit for bit. For sine shapes
-    /// the Chebyshev recurrences of the positions run interleaved (one position's recurrence
-    /// is a chain of dependent multiplies and subtractions, which leaves the processor
-    /// waiting), and the rail map is applied as each value is made instead of in a second
-    /// pass. `scratch` keeps the sines (it only grows, so repeated calls do not allocate).
-    /// `rows[j]` takes the same shapes as three rows of the modes' values, component after
-    /// component (`rows[j][k N + n] = outs[j][n][k]`).
+    /// [`Self::rail_shapes`] at up to [`SHAPE_LANES`] positions at once, the same values bit
+    /// for bit, in two layouts: mode after mode into `block`, lane `j`'s mode `n` at
+    /// `block[start + n · stride ..][..3]` with `(start, stride) = at[j]` (a vehicle's `U` of
+    /// the monolithic step, its wheelsets side by side within a mode), and as three rows of
+    /// the modes' values, component after component, into `rows[j]`
+    /// (`rows[j][k N + n] = Ψ(xs[j])[n][k]`); `on[j]` whether `xs[j]` is on the deck (zeros
+    /// off it). For sine shapes the Chebyshev recurrences of the positions run interleaved
+    /// (one position's recurrence is a chain of dependent multiplies and subtractions, which
+    /// leaves the processor waiting), and the rail map is applied as each value is made
+    /// instead of in a second pass. `scratch` keeps the sines and a lane's nodal shapes (it
+    /// only grows, so repeated calls do not allocate).
     pub fn rail_shapes_lanes(
         &self,
         xs: &[f64],
-        outs: &mut [&mut [[f64; 3]]],
+        block: &mut [f64],
+        at: &[(usize, usize)],
         rows: &mut [&mut [f64]],
         on: &mut [bool],
-        scratch: &mut Vec<[f64; SHAPE_LANES]>,
+        scratch: &mut LaneScratch,
     ) {
         let m = xs.len();
         let nb = self.n_modes();
-        assert!(m <= SHAPE_LANES && outs.len() >= m && on.len() >= m);
-        assert!(rows.len() >= m);
+        assert!(m <= SHAPE_LANES && at.len() >= m && on.len() >= m && rows.len() >= m);
         let Shapes::Sine {
             span_m,
             half_waves,
             amplitudes,
         } = &self.shapes
         else {
+            scratch.shapes.resize(nb, [0.0; 3]);
             for j in 0..m {
-                on[j] = self.rail_shapes(xs[j], outs[j]);
-                components_into(outs[j], rows[j]);
+                on[j] = self.rail_shapes(xs[j], &mut scratch.shapes);
+                for (c, p) in lane(block, at[j], nb).zip(&scratch.shapes) {
+                    *c = *p;
+                }
+                components_into(&scratch.shapes, rows[j]);
             }
             return;
         };
-        let s = self.lane_sines(*span_m, half_waves, xs, on, scratch);
+        let s = self.lane_sines(*span_m, half_waves, xs, on, &mut scratch.sines);
         for j in 0..m {
-            let (out, r) = (&mut *outs[j], &mut rows[j][..3 * nb]);
-            debug_assert_eq!(out.len(), nb);
+            let r = &mut rows[j][..3 * nb];
             if !on[j] {
-                out.iter_mut().for_each(|o| *o = [0.0; 3]);
+                lane(block, at[j], nb).for_each(|c| *c = [0.0; 3]);
                 r.fill(0.0);
                 continue;
             }
             let (r0, r12) = r.split_at_mut(nb);
             let (r1, r2) = r12.split_at_mut(nb);
             let rows = r0.iter_mut().zip(r1.iter_mut()).zip(r2.iter_mut());
-            let lanes = out.iter_mut().zip(half_waves).zip(amplitudes).zip(rows);
-            for (((o, &k), a), ((r0, r1), r2)) in lanes {
+            let modes = lane(block, at[j], nb)
+                .zip(half_waves)
+                .zip(amplitudes)
+                .zip(rows);
+            for (((c, &k), a), ((r0, r1), r2)) in modes {
                 let sk = s[k as usize][j];
                 let v = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
-                *o = v;
+                *c = v;
                 (*r0, *r1, *r2) = (v[0], v[1], v[2]);
             }
         }
@@ -594,6 +611,27 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
 
 /// Shapes `(a, b, c)` of each mode as three rows of the modes' values, one component after
 /// the other: `rows[k · N + n] = shapes[n][k]` (`N` = `shapes.len()`).
+/// Lane `(start, stride)` of a block of [`ModalBridge::rail_shapes_lanes`]: its `nb` modes,
+/// three values each from `start`, `stride ≥ 3` apart, the bounds checked once (a checked
+/// slice per mode cost a fifth of the shapes' loop). Panics unless `block` holds them.
+fn lane(
+    block: &mut [f64],
+    (start, stride): (usize, usize),
+    nb: usize,
+) -> impl Iterator<Item = &mut [f64; 3]> {
+    assert!(stride >= 3, "stride {stride} < 3");
+    assert!(
+        nb == 0 || block.len() >= start + (nb - 1) * stride + 3,
+        "a block of {} values holds no {nb} modes from {start}, {stride} apart",
+        block.len()
+    );
+    let base = block[start..].as_mut_ptr();
+    // SAFETY: the nb runs start + n · stride .. + 3 lie inside `block` (checked above) and
+    // are disjoint (stride ≥ 3); the iterator borrows `block` mutably for as long as they
+    // are used
+    (0..nb).map(move |n| unsafe { &mut *base.add(n * stride).cast::<[f64; 3]>() })
+}
+
 fn components_into(shapes: &[[f64; 3]], rows: &mut [f64]) {
     let nb = shapes.len();
     for (k, row) in rows[..3 * nb].chunks_exact_mut(nb.max(1)).enumerate() {
@@ -699,8 +737,9 @@ mod tests {
         assert_eq!(out, vec![[0.0; 3]; 3]);
     }
 
-    /// [`ModalBridge::rail_shapes_lanes`] gives [`ModalBridge::rail_shapes`] bit for bit, and
-    /// its rows the same values by component: sine shapes of many half-waves (and none),
+    /// [`ModalBridge::rail_shapes_lanes`] gives [`ModalBridge::rail_shapes`] bit for bit, into
+    /// its lanes of a mode-major block (and nowhere else in it) and into its rows by
+    /// component: sine shapes of many half-waves (and none),
     /// nodal shapes, one to four lanes, positions on and off the deck, one scratch shared by
     /// bridges of different sizes.
     #[test]
@@ -762,20 +801,29 @@ mod tests {
             812.500_000_001,
             13.0,
         ];
-        let mut scratch = Vec::new();
+        let mut scratch = LaneScratch::default();
         for b in &bridges {
             let n = b.n_modes();
             for lanes in 1..=SHAPE_LANES {
                 for start in 0..xs.len() - lanes {
                     let x = &xs[start..start + lanes];
-                    let mut bufs = vec![vec![[f64::NAN; 3]; n]; lanes];
-                    let mut outs: Vec<&mut [[f64; 3]]> =
-                        bufs.iter_mut().map(|b| b.as_mut_slice()).collect();
+                    // the lanes side by side within a mode, as a vehicle's U, with one
+                    // value between them that no lane writes
+                    let stride = 3 * lanes + 1;
+                    let mut block = vec![f64::NAN; n * stride];
+                    let at: Vec<(usize, usize)> = (0..lanes).map(|j| (3 * j, stride)).collect();
                     let mut rows = vec![vec![f64::NAN; 3 * n]; lanes];
                     let mut rows_of: Vec<&mut [f64]> =
                         rows.iter_mut().map(|r| r.as_mut_slice()).collect();
                     let mut on = [true; SHAPE_LANES];
-                    b.rail_shapes_lanes(x, &mut outs, &mut rows_of, &mut on, &mut scratch);
+                    b.rail_shapes_lanes(x, &mut block, &at, &mut rows_of, &mut on, &mut scratch);
+                    let bufs: Vec<Vec<[f64; 3]>> = (0..lanes)
+                        .map(|j| {
+                            let at = |i: usize, k: usize| block[i * stride + 3 * j + k];
+                            (0..n).map(|i| [at(i, 0), at(i, 1), at(i, 2)]).collect()
+                        })
+                        .collect();
+                    assert!((0..n).all(|i| block[i * stride + 3 * lanes].is_nan()));
                     // the rows are the shapes' components, bit for bit
                     for j in 0..lanes {
                         for (i, p) in bufs[j].iter().enumerate() {

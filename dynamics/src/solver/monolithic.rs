@@ -38,7 +38,7 @@
 //! a dense solve of the explicitly assembled matrices of eq. (14).
 
 use super::{rail_prescribed, VehicleState, WheelForce};
-use crate::bridge::{ModalBridge, SHAPE_LANES};
+use crate::bridge::{LaneScratch, ModalBridge, SHAPE_LANES};
 use crate::newmark::Newmark;
 use crate::sparse::SparseCholesky;
 use crate::track::RailProfile;
@@ -94,10 +94,16 @@ pub struct Monolithic {
     pub forces: Vec<Vector3<f64>>,
     omega: Vec<f64>,
     zeta: Vec<f64>,
-    psi: Vec<[f64; 3]>,
+    /// Every vehicle's `U` (its wheelsets' rail shapes `Ψ`, zeros off the deck) mode after
+    /// mode, vehicle after vehicle from `block_at[i]`: `blocks[block_at[i] + n · 3n_w + 3l + k]
+    /// = Ψ_{w_l}[n][k]`, written with the shapes ([`ModalBridge::rail_shapes_lanes`]). Its
+    /// products `Ψ q` ([`block_mul`]) are those of the step and of
+    /// [`Monolithic::apply_reduced_with`].
+    blocks: Vec<f64>,
+    block_at: Vec<usize>,
     /// The same shapes as three rows of `N_b` per wheelset, component after component
-    /// (`psi_t[(3w + k) N_b + n] = psi[w N_b + n][k]`): a vehicle's wheelsets' rows, one after
-    /// the other, are its `U` rail DOF after rail DOF ([`block_tr_add`]).
+    /// (`psi_t[(3w + k) N_b + n] = Ψ_w[n][k]`): a vehicle's wheelsets' rows, one after the
+    /// other, are its `U` rail DOF after rail DOF ([`block_tr_add`]).
     psi_t: Vec<f64>,
     presc: Vec<[Vector3<f64>; 3]>,
     /// Per vehicle, its constant blocks (shared by the vehicles of one model).
@@ -127,11 +133,13 @@ impl Monolithic {
         let wheelsets = train.wheelsets();
         let nw = wheelsets.len();
         let nm = Newmark::new(dt);
-        let mut first_ws = Vec::new();
-        let mut k = 0;
+        let (mut first_ws, mut block_at) = (Vec::new(), Vec::new());
+        let (mut k, mut at) = (0, 0);
         for tv in &train.vehicles {
             first_ws.push(k);
+            block_at.push(at);
             k += tv.model.wheelsets.len();
+            at += 3 * tv.model.wheelsets.len() * nb;
         }
         // Vehicles of one model (the same `Arc`, as the coaches of one train) share their
         // constant blocks, so a step reads one copy of them.
@@ -183,7 +191,8 @@ impl Monolithic {
             x: vec![0.0; nw],
             rail: vec![[Vector3::zeros(); 3]; nw],
             forces: vec![Vector3::zeros(); nw],
-            psi: vec![[0.0; 3]; nw * nb],
+            blocks: vec![0.0; 3 * nw * nb],
+            block_at,
             psi_t: vec![0.0; 3 * nw * nb],
             presc: vec![[Vector3::zeros(); 3]; nw],
             cache,
@@ -234,9 +243,9 @@ impl Monolithic {
     /// (see the module docs), with the vehicles eliminated. For inspection and tests.
     pub fn reduced_matrix(&self) -> DMatrix<f64> {
         let w = &self.work;
-        let mut blocks = vec![Vec::new(); self.train.vehicles.len()];
-        self.gather_blocks(&w.busy_vehicles, &mut blocks);
-        self.assemble_reduced(&w.dhat, &w.busy_vehicles, &blocks)
+        let mut live = vec![false; self.train.vehicles.len()];
+        self.live_vehicles(&w.busy_vehicles, &mut live);
+        self.assemble_reduced(&w.dhat, &w.busy_vehicles, &live)
     }
 
     /// The wheelsets whose force can change (all but the moving forces), into `out`.
@@ -244,9 +253,17 @@ impl Monolithic {
         out.get_or_insert_with(Vec::new).clone_from(&self.varying);
     }
 
-    fn psi_w(&self, w: usize) -> &[[f64; 3]] {
+    /// Wheelset `w`'s rail shapes `Ψ_w[n]`, from its rows of [`Monolithic::psi_t`].
+    fn shapes_w(&self, w: usize) -> Vec<[f64; 3]> {
         let nb = self.q.len();
-        &self.psi[w * nb..(w + 1) * nb]
+        let r = &self.psi_t[3 * nb * w..3 * nb * (w + 1)];
+        (0..nb).map(|n| [r[n], r[nb + n], r[2 * nb + n]]).collect()
+    }
+
+    /// Vehicle `i`'s `U` mode after mode, in [`Monolithic::blocks`].
+    fn block(&self, i: usize) -> &[f64] {
+        let r3 = 3 * self.train.vehicles[i].model.wheelsets.len();
+        &self.blocks[self.block_at[i]..self.block_at[i] + r3 * self.q.len()]
     }
 
     /// Positions, Ψ and prescribed rail motion at time `t`, and the wheelsets and vehicles
@@ -303,27 +320,29 @@ impl Monolithic {
         // the busy wheelsets' shapes, SHAPE_LANES at a time (each lane's shapes are those
         // of a lane alone)
         let lanes = &mut self.work.lanes;
-        let (mut psi, mut psi_t) = (&mut self.psi[..], &mut self.psi_t[..]);
+        let mut psi_t = &mut self.psi_t[..];
         let mut base = 0;
         for chunk in busy.chunks(SHAPE_LANES) {
-            let mut outs: [&mut [[f64; 3]]; SHAPE_LANES] = Default::default();
             let mut rows: [&mut [f64]; SHAPE_LANES] = Default::default();
+            let mut at = [(0, 0); SHAPE_LANES];
             let mut xs = [0.0; SHAPE_LANES];
-            for (((o, r), x), &w) in outs.iter_mut().zip(&mut rows).zip(&mut xs).zip(chunk) {
-                let tail = std::mem::take(&mut psi).split_at_mut((w - base) * nb).1;
-                let (this, tail) = tail.split_at_mut(nb);
+            for (((r, a), x), &w) in rows.iter_mut().zip(&mut at).zip(&mut xs).zip(chunk) {
                 let tail_t = std::mem::take(&mut psi_t)
                     .split_at_mut((w - base) * 3 * nb)
                     .1;
                 let (this_t, tail_t) = tail_t.split_at_mut(3 * nb);
-                (*o, psi, *r, psi_t, base) = (this, tail, this_t, tail_t, w + 1);
+                (*r, psi_t, base) = (this_t, tail_t, w + 1);
+                let ws = &self.wheelsets[w];
+                let r3 = 3 * self.train.vehicles[ws.vehicle].model.wheelsets.len();
+                *a = (self.block_at[ws.vehicle] + 3 * ws.local, r3);
                 *x = self.x[w];
             }
             let mut on = [false; SHAPE_LANES];
             let m = chunk.len();
             self.bridge.rail_shapes_lanes(
                 &xs[..m],
-                &mut outs[..m],
+                &mut self.blocks,
+                &at[..m],
                 &mut rows[..m],
                 &mut on[..m],
                 lanes,
@@ -361,7 +380,7 @@ impl Monolithic {
         for (w, ws) in self.wheelsets.iter().enumerate() {
             let model = &self.train.vehicles[ws.vehicle].model;
             let c = &model.wheelsets[ws.local];
-            let psi = &self.psi[w * nb..(w + 1) * nb];
+            let psi = &self.shapes_w(w);
             // force without the deck-acceleration part of the wheel inertia
             let [u, ud, udd] = self.rail[w];
             let vs = &self.vehicles[ws.vehicle];
@@ -388,7 +407,7 @@ impl Monolithic {
         out.clear();
         out.extend((0..self.wheelsets.len()).map(|w| {
             if self.on[w] {
-                psi_mul3(self.psi_w(w), q, qd, qdd)
+                psi_mul3(&self.shapes_w(w), q, qd, qdd)
             } else {
                 [Vector3::zeros(); 3]
             }
@@ -410,10 +429,10 @@ impl Monolithic {
             out[ws] = [Vector3::zeros(); 3];
         }
         for &i in &w.busy_vehicles {
-            let u = &w.blocks[i];
-            if u.is_empty() {
+            if !w.live[i] {
                 continue;
             }
+            let u = self.block(i);
             let (f0, r3) = (self.first_ws[i], u.len() / self.q.len());
             let uq = &mut w.ux[..r3];
             block_mul(u, self.q.as_slice(), uq);
@@ -470,7 +489,7 @@ impl Monolithic {
         let t1 = self.t + nm.h;
         self.update_geometry(t1);
         let mut w = std::mem::take(&mut self.work);
-        self.gather_blocks(&w.busy_vehicles, &mut w.blocks);
+        self.live_vehicles(&w.busy_vehicles, &mut w.live);
         // Bridge predictors and the diagonal part.
         for n in 0..nb {
             let c = 2.0 * self.zeta[n] * self.omega[n];
@@ -516,18 +535,18 @@ impl Monolithic {
             // Ψ q_c, Ψ q_m of the vehicle's wheelsets (zeros off the deck)
             let r3 = 3 * model.wheelsets.len();
             let (uqc, uqm) = (&mut w.ux[..r3], &mut w.sx[..r3]);
-            if w.blocks[i].is_empty() {
+            if w.live[i] {
+                block_mul(self.block(i), w.qc.as_slice(), uqc);
+                block_mul(self.block(i), w.qm.as_slice(), uqm);
+            } else {
                 uqc.fill(0.0);
                 uqm.fill(0.0);
-            } else {
-                block_mul(&w.blocks[i], w.qc.as_slice(), uqc);
-                block_mul(&w.blocks[i], w.qm.as_slice(), uqm);
             }
             for (l, c) in model.wheelsets.iter().enumerate() {
                 let ws = f0 + l;
                 let [r, rd, rdd] = self.presc[ws];
                 let on = self.on[ws];
-                let psi = &self.psi[ws * nb..(ws + 1) * nb];
+                let rows = &self.psi_t[3 * nb * ws..3 * nb * (ws + 1)];
                 let (pv, pm) = if on {
                     let at = |u: &[f64]| Vector3::new(u[3 * l], u[3 * l + 1], u[3 * l + 2]);
                     (at(uqc), at(uqm))
@@ -547,7 +566,7 @@ impl Monolithic {
                         // part without the vehicle's unknowns)
                         w.gv[3 * l..3 * l + 3].copy_from_slice(g.as_slice());
                     } else {
-                        psi_tr_add(psi, &g, w.bq.as_mut_slice());
+                        crate::simd::project_rows(w.bq.as_mut_slice(), rows, [g.x, g.y, g.z]);
                     }
                 }
             }
@@ -565,7 +584,7 @@ impl Monolithic {
                 for ((d, g), z) in gz.iter_mut().zip(gv.iter()).zip(z.iter()) {
                     *d = g - z;
                 }
-                if !w.blocks[i].is_empty() {
+                if w.live[i] {
                     block_tr_add(self.block_t(i), gz, w.bq.as_mut_slice());
                 }
             }
@@ -622,22 +641,13 @@ impl Monolithic {
         self.work = w;
     }
 
-    /// Each busy vehicle's `U` (its wheelsets' `Ψ` on the deck, zeros off it; empty when none
-    /// is on it) at this step's positions, mode after mode (`u[n · 3n_w + 3l + k] =
-    /// Ψ_{w_l}[n][k]`): the products `Ψ q` of the step ([`block_mul`]) and of
-    /// [`Monolithic::apply_reduced_with`].
-    fn gather_blocks(&self, vehicles: &[usize], blocks: &mut [Vec<f64>]) {
-        let nb = self.q.len();
+    /// Whether each of `vehicles` has a wheelset on the deck (`live[i]`): the vehicles whose
+    /// `U` ([`Monolithic::block`]) is not zero.
+    fn live_vehicles(&self, vehicles: &[usize], live: &mut [bool]) {
         for &i in vehicles {
             let f0 = self.first_ws[i];
             let nwi = self.train.vehicles[i].model.wheelsets.len();
-            let u = &mut blocks[i];
-            if !(f0..f0 + nwi).any(|ws| self.on[ws]) {
-                u.clear();
-                continue;
-            }
-            let psi = &self.psi[f0 * nb..(f0 + nwi) * nb];
-            gather_block(psi, nb, |l| self.on[f0 + l], u);
+            live[i] = self.on[f0..f0 + nwi].iter().any(|&on| on);
         }
     }
 
@@ -650,7 +660,7 @@ impl Monolithic {
     }
 
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled): per vehicle
-    /// `U x` as one sum over the modes of the gathered `U` ([`Monolithic::gather_blocks`]; each
+    /// `U x` as one sum over the modes of its mode-major `U` ([`Monolithic::block`]; each
     /// rail value summed over the modes in order, as one wheelset's `Ψ q` sums them),
     /// `S (U x)` with the dense `S` (column order), and `Uᵀ` of that as one product over the
     /// vehicle's rows of [`Monolithic::psi_t`] ([`block_tr_add`]).
@@ -658,7 +668,7 @@ impl Monolithic {
     fn apply_reduced_with(
         &self,
         vehicles: &[usize],
-        blocks: &[Vec<f64>],
+        live: &[bool],
         dhat: &DVector<f64>,
         x: &[f64],
         y: &mut [f64],
@@ -670,13 +680,12 @@ impl Monolithic {
             y[n] = dhat[n] * x[n];
         }
         for &i in vehicles {
-            let u = &blocks[i];
-            if u.is_empty() || self.cache[i].s_dense.is_empty() {
+            if !live[i] || self.cache[i].s_dense.is_empty() {
                 continue;
             }
             let r = 3 * self.train.vehicles[i].model.wheelsets.len();
             let (ux, sx) = (&mut ux[..r], &mut sx[..r]);
-            block_mul(u, x, ux);
+            block_mul(self.block(i), x, ux);
             crate::simd::mul_columns(sx, ux, &self.cache[i].s_dense);
             block_tr_add(self.block_t(i), sx, y);
         }
@@ -709,7 +718,7 @@ impl Monolithic {
             w.solves += 1;
         }
         if fresh {
-            let a = self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.blocks);
+            let a = self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.live);
             // None (not positive definite) leaves the step to the direct solver
             let Some(lagged) = Lagged::new(&a, w.solves, &w.assembled) else {
                 return false;
@@ -739,7 +748,7 @@ impl Monolithic {
             ux,
             sx,
             busy_vehicles,
-            blocks,
+            live,
             ..
         } = w;
         let inverse = Some(&*pre_now).filter(|_| lagged);
@@ -761,7 +770,7 @@ impl Monolithic {
         }
         self.apply_reduced_with(
             busy_vehicles,
-            blocks,
+            live,
             dhat,
             x.as_slice(),
             ap.as_mut_slice(),
@@ -802,7 +811,7 @@ impl Monolithic {
             }
             self.apply_reduced_with(
                 busy_vehicles,
-                blocks,
+                live,
                 dhat,
                 p.as_slice(),
                 ap.as_mut_slice(),
@@ -834,15 +843,14 @@ impl Monolithic {
 
     /// Assemble `A = D̂ + Σ Uᵀ S U` and solve by Cholesky.
     fn solve_direct(&self, w: &Work) -> DVector<f64> {
-        self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.blocks)
+        self.assemble_reduced(&w.dhat, &w.busy_vehicles, &w.live)
             .cholesky()
             .expect("reduced bridge matrix is positive definite")
             .solve(&w.bq)
     }
 
     /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions, from each busy vehicle's `U`
-    /// in its two layouts (`blocks` as [`Monolithic::gather_blocks`] leaves them, and
-    /// [`Monolithic::block_t`]): column `n` of `S U` is `S` times column `n` of `U` (the
+    /// in its two layouts ([`Monolithic::block`] and [`Monolithic::block_t`]): column `n` of `S U` is `S` times column `n` of `U` (the
     /// mode-major block's `n`-th run), and the upper part (rows `0..=n`) of column `n` of
     /// `Uᵀ (S U)` is the rail-major rows' first `n + 1` values taken with those, each a
     /// product over whole columns; the upper triangle is then mirrored below, so that `A` is
@@ -851,7 +859,7 @@ impl Monolithic {
         &self,
         dhat: &DVector<f64>,
         vehicles: &[usize],
-        blocks: &[Vec<f64>],
+        live: &[bool],
     ) -> DMatrix<f64> {
         let nb = dhat.len();
         let mut a = vec![0.0; nb * nb];
@@ -860,10 +868,11 @@ impl Monolithic {
         }
         let mut su = Vec::new();
         for &i in vehicles {
-            let (u, s) = (&blocks[i], &self.cache[i].s_dense);
-            if s.is_empty() || u.is_empty() {
+            let s = &self.cache[i].s_dense;
+            if s.is_empty() || !live[i] {
                 continue;
             }
+            let u = self.block(i);
             let m = u.len() / nb;
             su.resize(m, 0.0);
             let ut = self.block_t(i);
@@ -960,22 +969,6 @@ fn psi_mul(psi: &[[f64; 3]], q: &[f64]) -> Vector3<f64> {
     u
 }
 
-/// A vehicle's wheelsets' shapes `psi` (one after the other, `nb` modes each) as the block
-/// `U` of [`Monolithic::apply_reduced_with`], mode after mode: `u[n · 3n_w + 3l + k] =
-/// psi[l nb + n][k]`, zeros for the wheelsets `on(l)` rejects.
-fn gather_block(psi: &[[f64; 3]], nb: usize, on: impl Fn(usize) -> bool, u: &mut Vec<f64>) {
-    let r = 3 * (psi.len() / nb.max(1));
-    // every entry is written below: the block is not cleared first
-    u.resize(nb * r, 0.0);
-    for (l, shapes) in psi.chunks_exact(nb.max(1)).enumerate() {
-        let on = on(l);
-        for (row, p) in u.chunks_exact_mut(r).zip(shapes) {
-            let d: &mut [f64; 3] = (&mut row[3 * l..3 * l + 3]).try_into().expect("3 values");
-            *d = if on { *p } else { [0.0; 3] };
-        }
-    }
-}
-
 /// `y += Uᵀ s` for a vehicle's `U` rail DOF after rail DOF (`ut[(3l + k) N_b + n]`, its
 /// wheelsets' rows of [`Monolithic::psi_t`]): the rail DOFs' columns added in order (`s`
 /// finite: the zero rows of wheelsets off the deck add exact zeros).
@@ -983,7 +976,7 @@ fn block_tr_add(ut: &[f64], s: &[f64], y: &mut [f64]) {
     crate::simd::axpy_columns(y, s, ut);
 }
 
-/// `out = U x` for a gathered block `u` ([`gather_block`]): each value summed over the modes
+/// `out = U x` for a mode-major block `u` ([`Monolithic::blocks`]): each value summed over the modes
 /// in order, from zero (as one wheelset's `Ψ q` sums them).
 fn block_mul(u: &[f64], x: &[f64], out: &mut [f64]) {
     crate::simd::mul_columns(out, x, u);
@@ -1176,8 +1169,8 @@ struct Work {
     cg_t: DVector<f64>,
     ux: Vec<f64>,
     sx: Vec<f64>,
-    /// Per vehicle, its gathered `U` ([`Monolithic::gather_blocks`]).
-    blocks: Vec<Vec<f64>>,
+    /// Per vehicle: a wheelset of it on the deck ([`Monolithic::live_vehicles`]).
+    live: Vec<bool>,
     /// Scratch of a vehicle's `(v, v̇, v̈)` and of its wheelsets' `(r, ṙ − Ψ q_c)`.
     state: Vec<f64>,
     rails: Vec<f64>,
@@ -1190,7 +1183,7 @@ struct Work {
     /// Per vehicle (3 n_w values): `H b_v`, then `U q₁`.
     z: Vec<DVector<f64>>,
     /// Scratch of [`ModalBridge::rail_shapes_lanes`].
-    lanes: Vec<[f64; SHAPE_LANES]>,
+    lanes: LaneScratch,
     /// The deck's part of the rail motion under each wheelset at the end of the step.
     deck: Vec<[Vector3<f64>; 3]>,
     /// Per wheelset on the deck: `Ψ` times the bridge's damping and mass predictors
@@ -1248,14 +1241,14 @@ impl Work {
             cg_t: DVector::zeros(nb),
             ux: vec![0.0; wmax],
             sx: vec![0.0; wmax],
-            blocks: vec![Vec::new(); train.vehicles.len()],
+            live: vec![false; train.vehicles.len()],
             state: Vec::new(),
             rails: Vec::new(),
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),
             z: per(&|m| 3 * m.wheelsets.len()),
-            lanes: Vec::new(),
+            lanes: LaneScratch::default(),
             deck: Vec::new(),
             pred: vec![[Vector3::zeros(); 2]; train.wheelsets().len()],
             gv: vec![0.0; wmax],
@@ -1353,9 +1346,9 @@ fn structural(s: &DMatrix<f64>) -> Vec<f64> {
 mod tests {
     use super::*;
 
-    /// A vehicle's gathered block gives each wheelset's `Ψ q` bit for bit as one [`psi_mul`]
-    /// per wheelset does, for one to nine wheelsets, and zeros for the wheelsets left out
-    /// (also where the block held them before); its rows rail DOF after rail DOF (a zero row
+    /// A vehicle's mode-major block gives each wheelset's `Ψ q` bit for bit as one
+    /// [`psi_mul`] per wheelset does, for one to nine wheelsets, and zeros for a wheelset off
+    /// the deck; its rows rail DOF after rail DOF (a zero row
     /// for a wheelset off the deck) give `Σ Ψᵀ f` of the wheelsets on the deck as one
     /// projection per wheelset does, to round-off of the terms' magnitudes.
     #[test]
@@ -1373,10 +1366,15 @@ mod tests {
             .collect();
         for nw in 1..=9 {
             let psi: Vec<[f64; 3]> = (0..nw * nb).map(|_| [next(), next(), next()]).collect();
-            // the block of an earlier step, all wheelsets in, is reused; wheelset 1 is off
-            let (mut u, mut out) = (Vec::new(), vec![f64::NAN; 3 * nw]);
-            gather_block(&psi, nb, |_| true, &mut u);
-            gather_block(&psi, nb, |l| l != 1, &mut u);
+            // the block as the step keeps it, mode after mode; wheelset 1 is off the deck
+            let r = 3 * nw;
+            let mut u = vec![0.0; nb * r];
+            for l in (0..nw).filter(|&l| l != 1) {
+                for n in 0..nb {
+                    u[n * r + 3 * l..n * r + 3 * l + 3].copy_from_slice(&psi[l * nb + n]);
+                }
+            }
+            let mut out = vec![f64::NAN; 3 * nw];
             block_mul(&u, &q, &mut out);
             for l in 0..nw {
                 let one = if l == 1 {
