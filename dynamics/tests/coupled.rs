@@ -62,6 +62,38 @@ fn structured_solver_equals_dense_eq14() {
     }
 }
 
+/// The same with four coaches entering the span, where the reduced system is preconditioned
+/// by an earlier step's inverse carried forward in time (renewed as the coaches move on): the
+/// preconditioner decides only how many iterations a step takes, not what it solves.
+#[test]
+fn structured_solver_with_the_carried_forward_preconditioner_equals_dense_eq14() {
+    let bridge = bridge_3d(2.05, 1.25, 0.02);
+    let c = CoachParams::xia2000().build().unwrap();
+    let l = CoachParams::xia2000().length_m;
+    let coaches = (0..4).map(|i| (c.clone(), i as f64 * l)).collect();
+    let train = train_of(coaches, 160.0 / 3.6, 5.0);
+    let mut sol = Monolithic::new(bridge, train, Arc::new(Waves), 2e-3);
+    for _ in 0..400 {
+        sol.step();
+    }
+    assert_eq!(sol.preconditioner_order(), Some(2));
+    for _ in 0..20 {
+        let dense = dense_reference_step(&sol);
+        sol.step();
+        let (x, _, _) = stacked_state(&sol);
+        let scale = dense.amax();
+        let diff = (&x - &dense).amax();
+        println!(
+            "structured vs dense: {:.3e} of the largest entry",
+            diff / scale
+        );
+        assert!(
+            diff <= 1e-9 * scale,
+            "structured vs dense: {diff:e} (scale {scale:e})"
+        );
+    }
+}
+
 /// The rail motion a step leaves under each wheelset on the ideal track is the deck's,
 /// `Ψ(x_w) (q, q̇, q̈)` at the new state: the step forms it from `Ψ q₁` and its predictors
 /// (Newmark), checked here against the three products of the shapes evaluated anew, to the

@@ -248,6 +248,17 @@ impl Monolithic {
         self.assemble_reduced(&w.dhat, &w.busy_vehicles, &live)
     }
 
+    /// How the reduced system is preconditioned: None by `D̂`, else by an earlier step's
+    /// inverse carried forward to this order ([`Lagged`]: 0 before the second assembly, 1
+    /// before the third, 2 after). For inspection and tests.
+    pub fn preconditioner_order(&self) -> Option<usize> {
+        if !self.work.costs.lagged() {
+            return None;
+        }
+        let p = self.work.pre.as_ref()?;
+        Some(usize::from(p.slope.is_some()) + usize::from(p.curvature.is_some()))
+    }
+
     /// The wheelsets whose force can change (all but the moving forces), into `out`.
     pub(crate) fn forces_varying_into(&self, out: &mut Option<Vec<usize>>) {
         out.get_or_insert_with(Vec::new).clone_from(&self.varying);
