@@ -609,8 +609,6 @@ pub fn lagrange_weights(xs: &[f64], order: usize, x: f64) -> (usize, [f64; 8]) {
     (start, w)
 }
 
-/// Shapes `(a, b, c)` of each mode as three rows of the modes' values, one component after
-/// the other: `rows[k · N + n] = shapes[n][k]` (`N` = `shapes.len()`).
 /// Lane `(start, stride)` of a block of [`ModalBridge::rail_shapes_lanes`]: its `nb` modes,
 /// three values each from `start`, `stride ≥ 3` apart, the bounds checked once (a checked
 /// slice per mode cost a fifth of the shapes' loop). Panics unless `block` holds them.
@@ -632,6 +630,8 @@ fn lane(
     (0..nb).map(move |n| unsafe { &mut *base.add(n * stride).cast::<[f64; 3]>() })
 }
 
+/// Shapes `(a, b, c)` of each mode as three rows of the modes' values, one component after
+/// the other: `rows[k · N + n] = shapes[n][k]` (`N` = `shapes.len()`).
 fn components_into(shapes: &[[f64; 3]], rows: &mut [f64]) {
     let nb = shapes.len();
     for (k, row) in rows[..3 * nb].chunks_exact_mut(nb.max(1)).enumerate() {
