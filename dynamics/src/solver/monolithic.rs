@@ -1085,22 +1085,16 @@ impl Lagged {
     /// The preconditioner of solve `k + τ`, `P − τ B₁ + τ² B₂`, into `out`.
     fn at(&self, solve: usize, out: &mut DMatrix<f64>) {
         let tau = solve.saturating_sub(self.made_at) as f64;
-        let (p, o) = (self.inverse.as_slice(), out.as_mut_slice());
-        match (&self.slope, &self.curvature) {
-            _ if tau == 0.0 => o.copy_from_slice(p),
-            (Some(b1), Some(b2)) => {
-                let t2 = tau * tau;
-                let terms = p.iter().zip(b1.as_slice()).zip(b2.as_slice());
-                for (o, ((&p, &b1), &b2)) in o.iter_mut().zip(terms) {
-                    *o = p - tau * b1 + t2 * b2;
-                }
+        let o = out.as_mut_slice();
+        o.copy_from_slice(self.inverse.as_slice());
+        if tau > 0.0 {
+            // (P − τ B₁) + τ² B₂, each a product then a sum per entry
+            if let Some(b1) = &self.slope {
+                crate::simd::axpy(o, -tau, b1.as_slice());
             }
-            (Some(b1), None) => {
-                for (o, (&p, &b1)) in o.iter_mut().zip(p.iter().zip(b1.as_slice())) {
-                    *o = p - tau * b1;
-                }
+            if let Some(b2) = &self.curvature {
+                crate::simd::axpy(o, tau * tau, b2.as_slice());
             }
-            _ => o.copy_from_slice(p),
         }
     }
 }
