@@ -101,6 +101,9 @@ pub struct Monolithic {
     /// [`Monolithic::apply_reduced_with`].
     blocks: Vec<f64>,
     block_at: Vec<usize>,
+    /// Each wheelset's lane in [`Monolithic::blocks`], `(start, stride)`: its vehicle's
+    /// `block_at + 3l` and `3n_w`.
+    lane_at: Vec<(usize, usize)>,
     /// The same shapes as three rows of `N_b` per wheelset, component after component
     /// (`psi_t[(3w + k) N_b + n] = Ψ_w[n][k]`): a vehicle's wheelsets' rows, one after the
     /// other, are its `U` rail DOF after rail DOF ([`block_tr_add`]).
@@ -133,13 +136,15 @@ impl Monolithic {
         let wheelsets = train.wheelsets();
         let nw = wheelsets.len();
         let nm = Newmark::new(dt);
-        let (mut first_ws, mut block_at) = (Vec::new(), Vec::new());
+        let (mut first_ws, mut block_at, mut lane_at) = (Vec::new(), Vec::new(), Vec::new());
         let (mut k, mut at) = (0, 0);
         for tv in &train.vehicles {
+            let r3 = 3 * tv.model.wheelsets.len();
             first_ws.push(k);
             block_at.push(at);
+            lane_at.extend((0..r3).step_by(3).map(|l3| (at + l3, r3)));
             k += tv.model.wheelsets.len();
-            at += 3 * tv.model.wheelsets.len() * nb;
+            at += r3 * nb;
         }
         // Vehicles of one model (the same `Arc`, as the coaches of one train) share their
         // constant blocks, so a step reads one copy of them.
@@ -193,6 +198,7 @@ impl Monolithic {
             forces: vec![Vector3::zeros(); nw],
             blocks: vec![0.0; 3 * nw * nb],
             block_at,
+            lane_at,
             psi_t: vec![0.0; 3 * nw * nb],
             presc: vec![[Vector3::zeros(); 3]; nw],
             cache,
@@ -343,9 +349,7 @@ impl Monolithic {
                     .1;
                 let (this_t, tail_t) = tail_t.split_at_mut(3 * nb);
                 (*r, psi_t, base) = (this_t, tail_t, w + 1);
-                let ws = &self.wheelsets[w];
-                let r3 = 3 * self.train.vehicles[ws.vehicle].model.wheelsets.len();
-                *a = (self.block_at[ws.vehicle] + 3 * ws.local, r3);
+                *a = self.lane_at[w];
                 *x = self.x[w];
             }
             let mut on = [false; SHAPE_LANES];
@@ -557,7 +561,6 @@ impl Monolithic {
                 let ws = f0 + l;
                 let [r, rd, rdd] = self.presc[ws];
                 let on = self.on[ws];
-                let rows = &self.psi_t[3 * nb * ws..3 * nb * (ws + 1)];
                 let (pv, pm) = if on {
                     let at = |u: &[f64]| Vector3::new(u[3 * l], u[3 * l + 1], u[3 * l + 2]);
                     (at(uqc), at(uqm))
@@ -577,6 +580,7 @@ impl Monolithic {
                         // part without the vehicle's unknowns)
                         w.gv[3 * l..3 * l + 3].copy_from_slice(g.as_slice());
                     } else {
+                        let rows = &self.psi_t[3 * nb * ws..3 * nb * (ws + 1)];
                         crate::simd::project_rows(w.bq.as_mut_slice(), rows, [g.x, g.y, g.z]);
                     }
                 }
@@ -714,11 +718,10 @@ impl Monolithic {
     /// assembly (the step of the assembly itself needs none; on the bench case the step after
     /// it 1.4 on average, the tenth 2.0, the thirtieth 2.2, the fortieth 2.7: the count grows
     /// slowly with the matrix's change, so the fewest at the assembly would renew it far too
-    /// often);
-    /// otherwise `D̂`, started from `D̂⁻¹ b` plus the coupling correction of the previous step.
-    /// The solution is left in `w.cg_x`; returns false when it has not reached round-off level
-    /// within [`MAX_CG_ITERATIONS`] (or the carried-forward preconditioner has stopped being
-    /// positive definite), so that the direct solver takes over.
+    /// often); otherwise `D̂`, started from `D̂⁻¹ b` plus the coupling correction of the
+    /// previous step. The solution is left in `w.cg_x`; returns false when it has not reached
+    /// round-off level within [`MAX_CG_ITERATIONS`] (or the carried-forward preconditioner
+    /// has stopped being positive definite), so that the direct solver takes over.
     fn solve_iterative(&self, w: &mut Work) -> bool {
         let nb = w.bq.len();
         let lagged = w.costs.lagged();
@@ -861,8 +864,9 @@ impl Monolithic {
     }
 
     /// `A = D̂ + Σ Uᵀ S U` at the current wheelset positions, from each busy vehicle's `U`
-    /// in its two layouts ([`Monolithic::block`] and [`Monolithic::block_t`]): column `n` of `S U` is `S` times column `n` of `U` (the
-    /// mode-major block's `n`-th run), and the upper part (rows `0..=n`) of column `n` of
+    /// in its two layouts ([`Monolithic::block`] and [`Monolithic::block_t`]): column `n` of
+    /// `S U` is `S` times column `n` of `U` (the mode-major block's `n`-th run), and the upper
+    /// part (rows `0..=n`) of column `n` of
     /// `Uᵀ (S U)` is the rail-major rows' first `n + 1` values taken with those, each a
     /// product over whole columns; the upper triangle is then mirrored below, so that `A` is
     /// symmetric bit for bit (off-deck wheelsets have zero shapes and add exact zeros).
@@ -952,7 +956,7 @@ impl Costs {
 
     /// Whether the inverse of an earlier step's matrix is the preconditioner: when a product
     /// with it costs at most a quarter of an application of `A` (measured: 20 modes under 32
-    /// wheelsets, the bench case, 3.3 iterations per solve and an assembly every 23 steps;
+    /// wheelsets, the bench case, 2.1 iterations per solve and an assembly every 38 steps;
     /// not 200 modes under 128 wheelsets, whose matrix costs as much as the application, and
     /// where `D̂` was measured faster).
     fn lagged(&self) -> bool {
@@ -987,8 +991,8 @@ fn block_tr_add(ut: &[f64], s: &[f64], y: &mut [f64]) {
     crate::simd::axpy_columns(y, s, ut);
 }
 
-/// `out = U x` for a mode-major block `u` ([`Monolithic::blocks`]): each value summed over the modes
-/// in order, from zero (as one wheelset's `Ψ q` sums them).
+/// `out = U x` for a mode-major block `u` ([`Monolithic::blocks`]): each value summed over
+/// the modes in order, from zero (as one wheelset's `Ψ q` sums them).
 fn block_mul(u: &[f64], x: &[f64], out: &mut [f64]) {
     crate::simd::mul_columns(out, x, u);
 }
@@ -1149,10 +1153,11 @@ struct Work {
     /// `D̂ = diag(a0 + a1 2ζω + ω²)`, set once by [`Monolithic::new`].
     dhat: DVector<f64>,
     bq: DVector<f64>,
-    /// The preconditioner: the inverse of the reduced matrix of an earlier step (None:
-    /// assemble at the next solve; a product with it is a run of independent multiply-adds,
-    /// where the two triangular solves of its Cholesky factor are chains), the fewest
-    /// iterations it has needed and the iterations beyond those it has cost since.
+    /// The preconditioner: the inverse of the reduced matrix of an earlier step, carried
+    /// forward ([`Lagged`]; None: assemble at the next solve; a product with it is a run of
+    /// independent multiply-adds, where the two triangular solves of its Cholesky factor are
+    /// chains), the fewest iterations it has needed and the iterations beyond those it has
+    /// cost since.
     pre: Option<Lagged>,
     pre_fewest: usize,
     pre_extra: usize,
@@ -1353,9 +1358,9 @@ mod tests {
 
     /// A vehicle's mode-major block gives each wheelset's `Ψ q` bit for bit as one
     /// [`psi_mul`] per wheelset does, for one to nine wheelsets, and zeros for a wheelset off
-    /// the deck; its rows rail DOF after rail DOF (a zero row
-    /// for a wheelset off the deck) give `Σ Ψᵀ f` of the wheelsets on the deck as one
-    /// projection per wheelset does, to round-off of the terms' magnitudes.
+    /// the deck; its rows rail DOF after rail DOF (a zero row for a wheelset off the deck)
+    /// give `Σ Ψᵀ f` of the wheelsets on the deck as one projection per wheelset does, to
+    /// round-off of the terms' magnitudes.
     #[test]
     fn a_vehicles_blocks_give_each_wheelsets_products() {
         let nb = 23;
