@@ -290,6 +290,41 @@ impl ModalBridge {
             return;
         };
         let s = self.lane_sines(*span_m, half_waves, xs, on, &mut scratch.sines);
+        #[cfg(target_arch = "x86_64")]
+        if m == SHAPE_LANES && std::arch::is_x86_feature_detected!("avx2") {
+            let mut lanes = [(std::ptr::null_mut(), 0); SHAPE_LANES];
+            let mut row_ptrs = [std::ptr::null_mut(); SHAPE_LANES];
+            for j in 0..m {
+                let (start, stride) = at[j];
+                assert!(stride >= 3, "stride {stride} < 3");
+                assert!(
+                    nb == 0 || block.len() >= start + (nb - 1) * stride + 3,
+                    "a block of {} values holds no {nb} modes from {start}, {stride} apart",
+                    block.len()
+                );
+                lanes[j] = (block[start..].as_mut_ptr(), stride);
+                row_ptrs[j] = rows[j][..3 * nb].as_mut_ptr();
+            }
+            // SAFETY: the processor has AVX2 (checked above); each lane's nb runs of three
+            // from its start, stride ≥ 3 apart, lie inside `block` and each row's 3 nb values
+            // inside `rows[j]` (checked above); `s` holds every half-wave number's sines
+            unsafe {
+                rail_lanes_avx2(
+                    s,
+                    &half_waves[..nb],
+                    &amplitudes[..nb],
+                    [self.h4_m, self.e_m],
+                    lanes,
+                    row_ptrs,
+                    nb,
+                )
+            };
+            for j in (0..m).filter(|&j| !on[j]) {
+                lane(block, at[j], nb).for_each(|c| *c = [0.0; 3]);
+                rows[j][..3 * nb].fill(0.0);
+            }
+            return;
+        }
         for j in 0..m {
             let r = &mut rows[j][..3 * nb];
             if !on[j] {
@@ -536,6 +571,122 @@ fn chebyshev_sines<const L: usize>(sin1: [f64; L], c2: [f64; L], s: &mut [[f64; 
         }
         *sk = next;
         (prev, cur) = (cur, next);
+    }
+}
+
+/// The loop of [`ModalBridge::rail_shapes_lanes`] over the modes with the four lanes in one
+/// vector: mode `n`'s rail shape `rail_of(a_n · sin(k_n θⱼ))` of lane `j`, the same
+/// operations in the same order as the loop over one lane (bit for bit the same values),
+/// written to `lanes[j].0 + n · lanes[j].1` (three values) and to `rows[j] + c · nb + n`.
+/// Four modes at a time, each component's values are transposed to four modes of a lane and
+/// stored as one vector into its row; where the lanes lie side by side in the block (lane
+/// `j` from `3 j` after the first, one stride), a mode's twelve values are three vectors.
+/// Storing values one by one would make the loop wait on the stores.
+///
+/// # Safety
+/// AVX2; every `s[half_waves[n]]` exists; for each lane the runs `n · stride .. + 3` from
+/// its pointer and the `3 nb` values from its row pointer are valid for writes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn rail_lanes_avx2(
+    s: &[[f64; SHAPE_LANES]],
+    half_waves: &[u32],
+    amplitudes: &[[f64; 3]],
+    [h4, e]: [f64; 2],
+    lanes: [(*mut f64, usize); SHAPE_LANES],
+    rows: [*mut f64; SHAPE_LANES],
+    nb: usize,
+) {
+    use std::arch::x86_64::{
+        __m128d, __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_castpd256_pd128,
+        _mm256_extractf128_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute2f128_pd,
+        _mm256_permute4x64_pd, _mm256_permute_pd, _mm256_set1_pd, _mm256_storeu_pd,
+        _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm_storeh_pd, _mm_storel_pd,
+    };
+    let (vh4, ve) = (_mm256_set1_pd(h4), _mm256_set1_pd(e));
+    // mode n's rail shape, component after component, each over the lanes
+    let shape = |n: usize| -> [__m256d; 3] {
+        let a = &amplitudes[n];
+        let sk = _mm256_loadu_pd(s[half_waves[n] as usize].as_ptr());
+        let h = _mm256_mul_pd(_mm256_set1_pd(a[0]), sk);
+        let v = _mm256_mul_pd(_mm256_set1_pd(a[1]), sk);
+        let t = _mm256_mul_pd(_mm256_set1_pd(a[2]), sk);
+        // rail_of: (h + h4 t, t, v + e t)
+        [
+            _mm256_add_pd(h, _mm256_mul_pd(vh4, t)),
+            t,
+            _mm256_add_pd(v, _mm256_mul_pd(ve, t)),
+        ]
+    };
+    let (base0, stride0) = lanes[0];
+    let side_by_side = (1..SHAPE_LANES)
+        .all(|j| lanes[j].1 == stride0 && std::ptr::eq(lanes[j].0, base0.wrapping_add(3 * j)));
+    // mode n into the block, lane by lane or as three vectors
+    let to_block = |n: usize, r: &[__m256d; 3]| {
+        if side_by_side {
+            // (a0 b0 c0 a1) (b1 c1 a2 b2) (c2 a3 b3 c3) from a = r[0], b = r[1], c = r[2]
+            let pa = _mm256_permute4x64_pd(r[0], 0b01_10_11_00); // a0 a3 a2 a1
+            let pb = _mm256_permute_pd(r[1], 0b0101); // b1 b0 b3 b2
+            let pc = _mm256_permute4x64_pd(r[2], 0b11_00_01_10); // c2 c1 c0 c3
+            let v0 = _mm256_blend_pd(_mm256_blend_pd(pa, pb, 0b0010), pc, 0b0100);
+            let v1 = _mm256_blend_pd(_mm256_blend_pd(pb, pc, 0b0010), pa, 0b0100);
+            let v2 = _mm256_blend_pd(_mm256_blend_pd(pc, pa, 0b0010), pb, 0b0100);
+            let b = base0.add(n * stride0);
+            _mm256_storeu_pd(b, v0);
+            _mm256_storeu_pd(b.add(4), v1);
+            _mm256_storeu_pd(b.add(8), v2);
+        } else {
+            for (c, &rc) in r.iter().enumerate() {
+                let halves: [__m128d; 2] =
+                    [_mm256_castpd256_pd128(rc), _mm256_extractf128_pd(rc, 1)];
+                for (j, &(base, stride)) in lanes.iter().enumerate() {
+                    let b = base.add(n * stride + c);
+                    if j % 2 == 0 {
+                        _mm_storel_pd(b, halves[j / 2]);
+                    } else {
+                        _mm_storeh_pd(b, halves[j / 2]);
+                    }
+                }
+            }
+        }
+    };
+    let whole = nb - nb % 4;
+    for n0 in (0..whole).step_by(4) {
+        let r = [shape(n0), shape(n0 + 1), shape(n0 + 2), shape(n0 + 3)];
+        for (m, rm) in r.iter().enumerate() {
+            to_block(n0 + m, rm);
+        }
+        for c in 0..3 {
+            // rows: modes, columns: lanes → rows: lanes, columns: modes
+            let t0 = _mm256_unpacklo_pd(r[0][c], r[1][c]);
+            let t1 = _mm256_unpackhi_pd(r[0][c], r[1][c]);
+            let t2 = _mm256_unpacklo_pd(r[2][c], r[3][c]);
+            let t3 = _mm256_unpackhi_pd(r[2][c], r[3][c]);
+            let by_lane = [
+                _mm256_permute2f128_pd(t0, t2, 0x20),
+                _mm256_permute2f128_pd(t1, t3, 0x20),
+                _mm256_permute2f128_pd(t0, t2, 0x31),
+                _mm256_permute2f128_pd(t1, t3, 0x31),
+            ];
+            for (&row, v) in rows.iter().zip(by_lane) {
+                _mm256_storeu_pd(row.add(c * nb + n0), v);
+            }
+        }
+    }
+    for n in whole..nb {
+        let r = shape(n);
+        to_block(n, &r);
+        for (c, &rc) in r.iter().enumerate() {
+            let halves: [__m128d; 2] = [_mm256_castpd256_pd128(rc), _mm256_extractf128_pd(rc, 1)];
+            for (j, &row) in rows.iter().enumerate() {
+                let o = row.add(c * nb + n);
+                if j % 2 == 0 {
+                    _mm_storel_pd(o, halves[j / 2]);
+                } else {
+                    _mm_storeh_pd(o, halves[j / 2]);
+                }
+            }
+        }
     }
 }
 
@@ -788,6 +939,7 @@ mod tests {
         let bridges = [
             sine((0..120).map(|i| (i * 37 % 97 + 1) as u32).collect()),
             sine(vec![3, 1, 2]),
+            sine(vec![5, 1, 2, 9, 4, 4, 7]),
             sine(vec![0, 0]),
             nodal,
         ];
@@ -804,14 +956,16 @@ mod tests {
         let mut scratch = LaneScratch::default();
         for b in &bridges {
             let n = b.n_modes();
-            for lanes in 1..=SHAPE_LANES {
+            for (lanes, reversed) in (1..=SHAPE_LANES).flat_map(|l| [(l, false), (l, true)]) {
                 for start in 0..xs.len() - lanes {
                     let x = &xs[start..start + lanes];
-                    // the lanes side by side within a mode, as a vehicle's U, with one
-                    // value between them that no lane writes
+                    // the lanes side by side within a mode, as a vehicle's U (or in the
+                    // reverse order), with one value between them that no lane writes
                     let stride = 3 * lanes + 1;
                     let mut block = vec![f64::NAN; n * stride];
-                    let at: Vec<(usize, usize)> = (0..lanes).map(|j| (3 * j, stride)).collect();
+                    let slot = |j: usize| if reversed { lanes - 1 - j } else { j };
+                    let at: Vec<(usize, usize)> =
+                        (0..lanes).map(|j| (3 * slot(j), stride)).collect();
                     let mut rows = vec![vec![f64::NAN; 3 * n]; lanes];
                     let mut rows_of: Vec<&mut [f64]> =
                         rows.iter_mut().map(|r| r.as_mut_slice()).collect();
@@ -819,7 +973,7 @@ mod tests {
                     b.rail_shapes_lanes(x, &mut block, &at, &mut rows_of, &mut on, &mut scratch);
                     let bufs: Vec<Vec<[f64; 3]>> = (0..lanes)
                         .map(|j| {
-                            let at = |i: usize, k: usize| block[i * stride + 3 * j + k];
+                            let at = |i: usize, k: usize| block[i * stride + 3 * slot(j) + k];
                             (0..n).map(|i| [at(i, 0), at(i, 1), at(i, 2)]).collect()
                         })
                         .collect();
