@@ -259,7 +259,8 @@ impl ModalBridge {
     /// off it). For sine shapes the Chebyshev recurrences of the positions run interleaved
     /// (one position's recurrence is a chain of dependent multiplies and subtractions, which
     /// leaves the processor waiting), and the rail map is applied as each value is made
-    /// instead of in a second pass. `scratch` keeps the sines and a lane's nodal shapes (it
+    /// instead of in a second pass; with AVX2 and four lanes, the four lanes go through the
+    /// modes in one vector and are stored as vectors (`rail_lanes_avx2`). `scratch` keeps the sines and a lane's nodal shapes (it
     /// only grows, so repeated calls do not allocate).
     pub fn rail_shapes_lanes(
         &self,
