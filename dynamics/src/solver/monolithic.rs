@@ -551,8 +551,8 @@ impl Monolithic {
             let r3 = 3 * model.wheelsets.len();
             let (uqc, uqm) = (&mut w.ux[..r3], &mut w.sx[..r3]);
             if w.live[i] {
-                block_mul(self.block(i), w.qc.as_slice(), uqc);
-                block_mul(self.block(i), w.qm.as_slice(), uqm);
+                let u = self.block(i);
+                crate::simd::mul_columns_pair(uqc, w.qc.as_slice(), u, uqm, w.qm.as_slice(), u);
             } else {
                 uqc.fill(0.0);
                 uqm.fill(0.0);
@@ -678,7 +678,10 @@ impl Monolithic {
     /// `U x` as one sum over the modes of its mode-major `U` ([`Monolithic::block`]; each
     /// rail value summed over the modes in order, as one wheelset's `Ψ q` sums them),
     /// `S (U x)` with the dense `S` (column order), and `Uᵀ` of that as one product over the
-    /// vehicle's rows of [`Monolithic::psi_t`] ([`block_tr_add`]).
+    /// vehicle's rows of [`Monolithic::psi_t`] ([`block_tr_add`]). Two vehicles' `U x` and
+    /// `S (U x)` go side by side ([`crate::simd::mul_columns_pair`]: each of these short sums
+    /// is a chain of dependent additions, which the other's fills), the same values bit for
+    /// bit; their `Uᵀ` into `y` one vehicle after the other, in order.
     #[allow(clippy::too_many_arguments)]
     fn apply_reduced_with(
         &self,
@@ -694,15 +697,30 @@ impl Monolithic {
         for n in 0..nb {
             y[n] = dhat[n] * x[n];
         }
-        for &i in vehicles {
-            if !live[i] || self.cache[i].s_dense.is_empty() {
-                continue;
-            }
-            let r = 3 * self.train.vehicles[i].model.wheelsets.len();
-            let (ux, sx) = (&mut ux[..r], &mut sx[..r]);
-            block_mul(self.block(i), x, ux);
-            crate::simd::mul_columns(sx, ux, &self.cache[i].s_dense);
-            block_tr_add(self.block_t(i), sx, y);
+        // two vehicles at a time: their U x and S (U x) side by side, then Uᵀ of each in
+        // order (the sums into y as one vehicle after the other)
+        let mut coupled = vehicles
+            .iter()
+            .copied()
+            .filter(|&i| live[i] && !self.cache[i].s_dense.is_empty());
+        let rows = |i: usize| 3 * self.train.vehicles[i].model.wheelsets.len();
+        while let Some(i) = coupled.next() {
+            let ri = rows(i);
+            let Some(k) = coupled.next() else {
+                let (ux, sx) = (&mut ux[..ri], &mut sx[..ri]);
+                block_mul(self.block(i), x, ux);
+                crate::simd::mul_columns(sx, ux, &self.cache[i].s_dense);
+                block_tr_add(self.block_t(i), sx, y);
+                break;
+            };
+            let rk = rows(k);
+            let (ux_i, ux_k) = ux[..ri + rk].split_at_mut(ri);
+            let (sx_i, sx_k) = sx[..ri + rk].split_at_mut(ri);
+            let (ci, ck) = (&self.cache[i].s_dense, &self.cache[k].s_dense);
+            crate::simd::mul_columns_pair(ux_i, x, self.block(i), ux_k, x, self.block(k));
+            crate::simd::mul_columns_pair(sx_i, ux_i, ci, sx_k, ux_k, ck);
+            block_tr_add(self.block_t(i), sx_i, y);
+            block_tr_add(self.block_t(k), sx_k, y);
         }
     }
 
@@ -1249,8 +1267,9 @@ impl Work {
             cg_p: DVector::zeros(nb),
             cg_ap: DVector::zeros(nb),
             cg_t: DVector::zeros(nb),
-            ux: vec![0.0; wmax],
-            sx: vec![0.0; wmax],
+            // two vehicles' rail DOFs (apply_reduced_with takes them in pairs)
+            ux: vec![0.0; 2 * wmax],
+            sx: vec![0.0; 2 * wmax],
             live: vec![false; train.vehicles.len()],
             state: Vec::new(),
             rails: Vec::new(),
