@@ -45,8 +45,8 @@ pub fn mul_columns(y: &mut [f64], a: &[f64], columns: &[f64]) {
 }
 
 /// Two [`mul_columns`] at once, `y₁ ← Σⱼ a₁ⱼ x₁ⱼ` and `y₂ ← Σⱼ a₂ⱼ x₂ⱼ`, bit for bit as the
-/// two calls: with AVX2, where both have the same 4, 8, 12 or 16 rows and the same number of
-/// whole columns, their sums go through the columns side by side (each a chain of
+/// two calls: with AVX2, where both have the same number of rows, 1 to 16, and the same
+/// number of whole columns, their sums go through the columns side by side (each a chain of
 /// dependent additions that the other's fills), otherwise one after the other.
 #[inline]
 pub fn mul_columns_pair(
@@ -60,8 +60,7 @@ pub fn mul_columns_pair(
     let n = y1.len();
     #[cfg(target_arch = "x86_64")]
     if n == y2.len()
-        && n & 3 == 0
-        && (4..=16).contains(&n)
+        && (1..=16).contains(&n)
         && a1.len() == a2.len()
         && columns1.len() >= n * a1.len()
         && columns2.len() >= n * a2.len()
@@ -70,17 +69,22 @@ pub fn mul_columns_pair(
         // SAFETY: the processor has AVX2 (checked just above); both columns slices hold
         // a.len() whole columns of the n rows of y1 and y2 (checked above)
         unsafe {
-            let (y1, y2, c1, c2) = (
+            let p = (
                 y1.as_mut_ptr(),
                 y2.as_mut_ptr(),
                 columns1.as_ptr(),
                 columns2.as_ptr(),
             );
-            match n / 4 {
-                1 => columns_pair::<1>(y1, y2, a1, a2, c1, c2),
-                2 => columns_pair::<2>(y1, y2, a1, a2, c1, c2),
-                3 => columns_pair::<3>(y1, y2, a1, a2, c1, c2),
-                _ => columns_pair::<4>(y1, y2, a1, a2, c1, c2),
+            let (r, (y1, y2, c1, c2)) = (n % 4, p);
+            match (n / 4, r) {
+                (0, _) => columns_pair::<0, true>(y1, y2, a1, a2, c1, c2, r),
+                (1, 0) => columns_pair::<1, false>(y1, y2, a1, a2, c1, c2, r),
+                (1, _) => columns_pair::<1, true>(y1, y2, a1, a2, c1, c2, r),
+                (2, 0) => columns_pair::<2, false>(y1, y2, a1, a2, c1, c2, r),
+                (2, _) => columns_pair::<2, true>(y1, y2, a1, a2, c1, c2, r),
+                (3, 0) => columns_pair::<3, false>(y1, y2, a1, a2, c1, c2, r),
+                (3, _) => columns_pair::<3, true>(y1, y2, a1, a2, c1, c2, r),
+                _ => columns_pair::<4, false>(y1, y2, a1, a2, c1, c2, r),
             }
         }
         return;
@@ -89,42 +93,67 @@ pub fn mul_columns_pair(
     mul_columns(y2, a2, columns2);
 }
 
-/// [`mul_columns_pair`]'s sums: `4 G` rows of each product from zero through its columns
-/// (`4 G` values each, one after the other), the two products' groups side by side.
+/// [`mul_columns_pair`]'s sums: `n = 4 G (+ r)` rows of each product from zero through its
+/// columns (`n` values each, one after the other), the two products' groups side by side;
+/// with `TAIL` the last `r` (1–3) rows of each as the masked lanes of one more vector.
 ///
 /// # Safety
-/// AVX2; `4 G` values from `y1`, `y2` writable and not aliased, `4 G · a.len()` values from
+/// AVX2; `n` values from `y1`, `y2` writable and not aliased, `n · a.len()` values from
 /// `c1`, `c2` readable, `a1.len() == a2.len()`.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn columns_pair<const G: usize>(
+unsafe fn columns_pair<const G: usize, const TAIL: bool>(
     y1: *mut f64,
     y2: *mut f64,
     a1: &[f64],
     a2: &[f64],
     c1: *const f64,
     c2: *const f64,
+    r: usize,
 ) {
     use std::arch::x86_64::{
-        _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_setzero_pd,
-        _mm256_storeu_pd,
+        _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_setr_epi64x, _mm256_setzero_pd, _mm256_storeu_pd,
     };
-    // SAFETY: the rows the caller vouches for.
+    let n = 4 * G + if TAIL { r } else { 0 };
+    let mask = _mm256_setr_epi64x(
+        -1,
+        if r > 1 { -1 } else { 0 },
+        if r > 2 { -1 } else { 0 },
+        0,
+    );
+    // SAFETY: the rows the caller vouches for; the tail's lanes past n are masked off
     unsafe {
         let (mut acc1, mut acc2) = ([_mm256_setzero_pd(); G], [_mm256_setzero_pd(); G]);
+        let (mut last1, mut last2) = (_mm256_setzero_pd(), _mm256_setzero_pd());
         for (j, (&b1, &b2)) in a1.iter().zip(a2).enumerate() {
             let (s1, s2) = (_mm256_set1_pd(b1), _mm256_set1_pd(b2));
-            let (x1, x2) = (c1.add(j * 4 * G), c2.add(j * 4 * G));
+            let (x1, x2) = (c1.add(j * n), c2.add(j * n));
             for g in 0..G {
                 let v1 = _mm256_loadu_pd(x1.add(4 * g));
                 let v2 = _mm256_loadu_pd(x2.add(4 * g));
                 acc1[g] = _mm256_add_pd(acc1[g], _mm256_mul_pd(s1, v1));
                 acc2[g] = _mm256_add_pd(acc2[g], _mm256_mul_pd(s2, v2));
             }
+            if TAIL {
+                let v1 = _mm256_maskload_pd(x1.add(4 * G), mask);
+                let v2 = _mm256_maskload_pd(x2.add(4 * G), mask);
+                last1 = _mm256_add_pd(last1, _mm256_mul_pd(s1, v1));
+                last2 = _mm256_add_pd(last2, _mm256_mul_pd(s2, v2));
+            }
         }
         for g in 0..G {
             _mm256_storeu_pd(y1.add(4 * g), acc1[g]);
             _mm256_storeu_pd(y2.add(4 * g), acc2[g]);
+        }
+        if TAIL {
+            let mut t = [[0.0; 4]; 2];
+            _mm256_storeu_pd(t[0].as_mut_ptr(), last1);
+            _mm256_storeu_pd(t[1].as_mut_ptr(), last2);
+            for k in 0..r {
+                *y1.add(4 * G + k) = t[0][k];
+                *y2.add(4 * G + k) = t[1][k];
+            }
         }
     }
 }

@@ -515,22 +515,18 @@ impl Monolithic {
         if let Some(b) = &self.buffeting {
             b.add_modal_force(t1, w.bq.as_mut_slice());
         }
+        // y = K̂⁻¹ b_v, the state's part first (two vehicles' side by side), the rails'
+        // after the wheelset loop
+        self.state_parts(&mut w);
         for &i in &w.busy_vehicles {
             let model = &self.train.vehicles[i].model;
             let cache = &self.cache[i];
             let vs = &self.vehicles[i];
             let f0 = self.first_ws[i];
             let n = model.ndof();
-            // y = K̂⁻¹ b_v, the state's part first, the rails' after the wheelset loop
             let y = &mut w.bv[i];
             let vc = &mut w.vc[i];
             if n > 0 {
-                let state = &mut w.state;
-                state.clear();
-                for part in [&vs.v, &vs.vd, &vs.vdd] {
-                    state.extend_from_slice(part.as_slice());
-                }
-                crate::simd::mul_columns(y.as_mut_slice(), state, &cache.e_state);
                 for k in 0..n {
                     vc[k] = nm.damp_pred(vs.v[k], vs.vd[k]);
                 }
@@ -654,6 +650,48 @@ impl Monolithic {
         self.t = t1;
         self.finish_outputs_of(&w.busy, &w.deck, Some(&w.gz));
         self.work = w;
+    }
+
+    /// `y = K̂⁻¹ (M v_m + C v_c)` of each busy vehicle with DOFs into `w.bv`, as the product
+    /// of [`VehicleCache::e_state`] with its `(v, v̇, v̈)`, two vehicles at a time
+    /// ([`crate::simd::mul_columns_pair`], the same values bit for bit as one by one).
+    fn state_parts(&self, w: &mut Work) {
+        let Work {
+            busy_vehicles,
+            bv,
+            state,
+            state2,
+            ..
+        } = w;
+        let mut with_dofs = busy_vehicles
+            .iter()
+            .copied()
+            .filter(|&i| self.train.vehicles[i].model.ndof() > 0);
+        let fill = |s: &mut Vec<f64>, i: usize| {
+            let vs = &self.vehicles[i];
+            s.clear();
+            for part in [&vs.v, &vs.vd, &vs.vdd] {
+                s.extend_from_slice(part.as_slice());
+            }
+        };
+        while let Some(i) = with_dofs.next() {
+            fill(state, i);
+            let Some(k) = with_dofs.next() else {
+                crate::simd::mul_columns(bv[i].as_mut_slice(), state, &self.cache[i].e_state);
+                break;
+            };
+            fill(state2, k);
+            // i < k: the vehicles ascend
+            let (head, tail) = bv.split_at_mut(k);
+            crate::simd::mul_columns_pair(
+                head[i].as_mut_slice(),
+                state,
+                &self.cache[i].e_state,
+                tail[0].as_mut_slice(),
+                state2,
+                &self.cache[k].e_state,
+            );
+        }
     }
 
     /// Whether each of `vehicles` has a wheelset on the deck (`live[i]`): the vehicles whose
@@ -1201,6 +1239,8 @@ struct Work {
     live: Vec<bool>,
     /// Scratch of a vehicle's `(v, v̇, v̈)` and of its wheelsets' `(r, ṙ − Ψ q_c)`.
     state: Vec<f64>,
+    /// The same of a second vehicle ([`Monolithic::state_parts`] takes two at a time).
+    state2: Vec<f64>,
     rails: Vec<f64>,
     /// Per vehicle (n values): the wind's share of `K̂⁻¹ b_v`, then the new state `v₁`.
     vm: Vec<DVector<f64>>,
@@ -1272,6 +1312,7 @@ impl Work {
             sx: vec![0.0; 2 * wmax],
             live: vec![false; train.vehicles.len()],
             state: Vec::new(),
+            state2: Vec::new(),
             rails: Vec::new(),
             vm: per(&|m| m.ndof()),
             vc: per(&|m| m.ndof()),
