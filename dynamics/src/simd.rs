@@ -69,13 +69,8 @@ pub fn mul_columns_pair(
         // SAFETY: the processor has AVX2 (checked just above); both columns slices hold
         // a.len() whole columns of the n rows of y1 and y2 (checked above)
         unsafe {
-            let p = (
-                y1.as_mut_ptr(),
-                y2.as_mut_ptr(),
-                columns1.as_ptr(),
-                columns2.as_ptr(),
-            );
-            let (r, (y1, y2, c1, c2)) = (n % 4, p);
+            let (y1, y2) = (y1.as_mut_ptr(), y2.as_mut_ptr());
+            let (c1, c2, r) = (columns1.as_ptr(), columns2.as_ptr(), n % 4);
             match (n / 4, r) {
                 (0, _) => columns_pair::<0, true>(y1, y2, a1, a2, c1, c2, r),
                 (1, 0) => columns_pair::<1, false>(y1, y2, a1, a2, c1, c2, r),
@@ -91,6 +86,18 @@ pub fn mul_columns_pair(
     }
     mul_columns(y1, a1, columns1);
     mul_columns(y2, a2, columns2);
+}
+
+/// The first `r` (0–4) of four lanes, as the mask of `_mm256_maskload_pd`.
+///
+/// # Safety
+/// AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn first_lanes(r: usize) -> std::arch::x86_64::__m256i {
+    let on = |j: usize| if j < r { -1 } else { 0 };
+    std::arch::x86_64::_mm256_setr_epi64x(on(0), on(1), on(2), on(3))
 }
 
 /// [`mul_columns_pair`]'s sums: `n = 4 G (+ r)` rows of each product from zero through its
@@ -113,15 +120,10 @@ unsafe fn columns_pair<const G: usize, const TAIL: bool>(
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_setr_epi64x, _mm256_setzero_pd, _mm256_storeu_pd,
+        _mm256_setzero_pd, _mm256_storeu_pd,
     };
     let n = 4 * G + if TAIL { r } else { 0 };
-    let mask = _mm256_setr_epi64x(
-        -1,
-        if r > 1 { -1 } else { 0 },
-        if r > 2 { -1 } else { 0 },
-        0,
-    );
+    let mask = first_lanes(r);
     // SAFETY: the rows the caller vouches for; the tail's lanes past n are masked off
     unsafe {
         let (mut acc1, mut acc2) = ([_mm256_setzero_pd(); G], [_mm256_setzero_pd(); G]);
@@ -374,14 +376,9 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_setr_epi64x, _mm256_setzero_pd, _mm256_storeu_pd,
+        _mm256_setzero_pd, _mm256_storeu_pd,
     };
-    let mask = _mm256_setr_epi64x(
-        -1,
-        if r > 1 { -1 } else { 0 },
-        if r > 2 { -1 } else { 0 },
-        0,
-    );
+    let mask = first_lanes(r);
     // SAFETY: the rows the caller vouches for.
     unsafe {
         let mut acc = [_mm256_setzero_pd(); G];

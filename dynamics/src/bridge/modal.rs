@@ -260,8 +260,9 @@ impl ModalBridge {
     /// (one position's recurrence is a chain of dependent multiplies and subtractions, which
     /// leaves the processor waiting), and the rail map is applied as each value is made
     /// instead of in a second pass; with AVX2 and four lanes, the four lanes go through the
-    /// modes in one vector and are stored as vectors (`rail_lanes_avx2`). `scratch` keeps the sines and a lane's nodal shapes (it
-    /// only grows, so repeated calls do not allocate).
+    /// modes in one vector and are stored as vectors (`rail_lanes_avx2`). `scratch` keeps
+    /// the sines and a lane's nodal shapes (it only grows, so repeated calls do not
+    /// allocate).
     pub fn rail_shapes_lanes(
         &self,
         xs: &[f64],
@@ -296,14 +297,8 @@ impl ModalBridge {
             let mut lanes = [(std::ptr::null_mut(), 0); SHAPE_LANES];
             let mut row_ptrs = [std::ptr::null_mut(); SHAPE_LANES];
             for j in 0..m {
-                let (start, stride) = at[j];
-                assert!(stride >= 3, "stride {stride} < 3");
-                assert!(
-                    nb == 0 || block.len() >= start + (nb - 1) * stride + 3,
-                    "a block of {} values holds no {nb} modes from {start}, {stride} apart",
-                    block.len()
-                );
-                lanes[j] = (block[start..].as_mut_ptr(), stride);
+                check_lane(block.len(), at[j], nb);
+                lanes[j] = (block[at[j].0..].as_mut_ptr(), at[j].1);
                 row_ptrs[j] = rows[j][..3 * nb].as_mut_ptr();
             }
             // SAFETY: the processor has AVX2 (checked above); each lane's nb runs of three
@@ -599,10 +594,9 @@ unsafe fn rail_lanes_avx2(
     nb: usize,
 ) {
     use std::arch::x86_64::{
-        __m128d, __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_castpd256_pd128,
-        _mm256_extractf128_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute2f128_pd,
-        _mm256_permute4x64_pd, _mm256_permute_pd, _mm256_set1_pd, _mm256_storeu_pd,
-        _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm_storeh_pd, _mm_storel_pd,
+        __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_loadu_pd, _mm256_mul_pd,
+        _mm256_permute2f128_pd, _mm256_permute4x64_pd, _mm256_permute_pd, _mm256_set1_pd,
+        _mm256_storeu_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
     };
     let (vh4, ve) = (_mm256_set1_pd(h4), _mm256_set1_pd(e));
     // mode n's rail shape, component after component, each over the lanes
@@ -638,16 +632,7 @@ unsafe fn rail_lanes_avx2(
             _mm256_storeu_pd(b.add(8), v2);
         } else {
             for (c, &rc) in r.iter().enumerate() {
-                let halves: [__m128d; 2] =
-                    [_mm256_castpd256_pd128(rc), _mm256_extractf128_pd(rc, 1)];
-                for (j, &(base, stride)) in lanes.iter().enumerate() {
-                    let b = base.add(n * stride + c);
-                    if j % 2 == 0 {
-                        _mm_storel_pd(b, halves[j / 2]);
-                    } else {
-                        _mm_storeh_pd(b, halves[j / 2]);
-                    }
-                }
+                store_lanes(rc, |j| lanes[j].0.add(n * lanes[j].1 + c));
             }
         }
     };
@@ -678,16 +663,29 @@ unsafe fn rail_lanes_avx2(
         let r = shape(n);
         to_block(n, &r);
         for (c, &rc) in r.iter().enumerate() {
-            let halves: [__m128d; 2] = [_mm256_castpd256_pd128(rc), _mm256_extractf128_pd(rc, 1)];
-            for (j, &row) in rows.iter().enumerate() {
-                let o = row.add(c * nb + n);
-                if j % 2 == 0 {
-                    _mm_storel_pd(o, halves[j / 2]);
-                } else {
-                    _mm_storeh_pd(o, halves[j / 2]);
-                }
-            }
+            store_lanes(rc, |j| rows[j].add(c * nb + n));
         }
+    }
+}
+
+/// Lane `j` of `v` to `to(j)`, for the four lanes.
+///
+/// # Safety
+/// AVX2; each `to(j)` valid for a write.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn store_lanes(v: std::arch::x86_64::__m256d, to: impl Fn(usize) -> *mut f64) {
+    use std::arch::x86_64::{
+        _mm256_castpd256_pd128, _mm256_extractf128_pd, _mm_storeh_pd, _mm_storel_pd,
+    };
+    let (low, high) = (_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+    // SAFETY: the pointers the caller vouches for
+    unsafe {
+        _mm_storel_pd(to(0), low);
+        _mm_storeh_pd(to(1), low);
+        _mm_storel_pd(to(2), high);
+        _mm_storeh_pd(to(3), high);
     }
 }
 
@@ -769,17 +767,22 @@ fn lane(
     (start, stride): (usize, usize),
     nb: usize,
 ) -> impl Iterator<Item = &mut [f64; 3]> {
-    assert!(stride >= 3, "stride {stride} < 3");
-    assert!(
-        nb == 0 || block.len() >= start + (nb - 1) * stride + 3,
-        "a block of {} values holds no {nb} modes from {start}, {stride} apart",
-        block.len()
-    );
+    check_lane(block.len(), (start, stride), nb);
     let base = block[start..].as_mut_ptr();
     // SAFETY: the nb runs start + n · stride .. + 3 lie inside `block` (checked above) and
     // are disjoint (stride ≥ 3); the iterator borrows `block` mutably for as long as they
     // are used
     (0..nb).map(move |n| unsafe { &mut *base.add(n * stride).cast::<[f64; 3]>() })
+}
+
+/// Panics unless the `nb` runs of three values `start + n · stride ..` of a lane are disjoint
+/// (`stride ≥ 3`) and inside a block of `len` values.
+fn check_lane(len: usize, (start, stride): (usize, usize), nb: usize) {
+    assert!(stride >= 3, "stride {stride} < 3");
+    assert!(
+        nb == 0 || len >= start + (nb - 1) * stride + 3,
+        "a block of {len} values holds no {nb} modes from {start}, {stride} apart"
+    );
 }
 
 /// Shapes `(a, b, c)` of each mode as three rows of the modes' values, one component after

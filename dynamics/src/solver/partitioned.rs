@@ -871,9 +871,9 @@ impl TrainSide {
     }
 }
 
-/// `h[k] += sin(k θ_w) g_w` for each wheelset `w` in turn (`(sines, g)`, the sines of its
-/// position for `k = 0 ..` and its force on the deck): the forces gathered per half-wave
-/// number. With AVX2 and at most twelve half-wave numbers the sums stay in registers, the
+/// `h[k] ← Σ_w sin(k θ_w) g_w` from zero, over the wheelsets `w` in turn (`(sines, g)`, the
+/// sines of its position for `k = 0 ..` and its force on the deck): the forces gathered per
+/// half-wave number. With AVX2 and at most twelve half-wave numbers the sums stay in registers, the
 /// half-wave numbers side by side, instead of being loaded and stored for every wheelset;
 /// each `h[k][c]` takes the same products in the same order (bit for bit the same).
 fn sine_forces<'a>(h: &mut [[f64; 3]], wheelsets: impl Iterator<Item = (&'a [f64], [f64; 3])>) {
@@ -897,6 +897,7 @@ fn sine_forces_body<'a>(
     h: &mut [[f64; 3]],
     wheelsets: impl Iterator<Item = (&'a [f64], [f64; 3])>,
 ) {
+    h.fill([0.0; 3]);
     for (sines, g) in wheelsets {
         for (hk, &sk) in h.iter_mut().zip(sines) {
             for (hc, gc) in hk.iter_mut().zip(g) {
@@ -918,13 +919,12 @@ unsafe fn sine_forces_avx2<'a, const V: usize>(
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_setr_epi64x, _mm256_setzero_pd, _mm256_storeu_pd,
+        _mm256_setzero_pd, _mm256_storeu_pd,
     };
     let n = h.len();
     let last = n - 4 * (V - 1); // 1..=4 values in the last vector
-    let lane = |j: i64| if j < last as i64 { -1 } else { 0 };
-    let mask = _mm256_setr_epi64x(lane(0), lane(1), lane(2), lane(3));
-    // h starts at zero (as BasisScratch::zeroed leaves it)
+                                // SAFETY: AVX2, as this function
+    let mask = unsafe { crate::simd::first_lanes(last) };
     let mut acc = [[_mm256_setzero_pd(); V]; 3];
     for (sines, g) in wheelsets {
         let sines = &sines[..n];
