@@ -103,7 +103,7 @@ fn the_rail_motion_after_a_step_is_the_decks_at_the_new_state() {
     while sol.t < 3.0 {
         sol.step();
         for (w, rail) in sol.rail.iter().enumerate() {
-            let x = sol.x[w];
+            let x = sol.x()[w];
             if !bridge.rail_shapes(x, &mut psi) {
                 assert!(
                     rail.iter().all(|v| v.amax() == 0.0),
@@ -211,7 +211,7 @@ fn the_reduced_matrix_is_the_schur_complement_of_eq14() {
         let e = (&a - &schur).amax() / schur.amax();
         worst = worst.max(e);
         assert!(e <= 1e-13, "t = {}: {e:e} of the largest entry", sol.t);
-        if sol.x.iter().all(|&x| x > 0.0 && x < 60.0) {
+        if sol.x().iter().all(|&x| x > 0.0 && x < 60.0) {
             checked += 1;
         }
     }

@@ -20,7 +20,9 @@
 //! and each solver's figures come from its fastest run: on a shared machine the least
 //! disturbed run is the closest to the cost itself, and alternating exposes both solvers to
 //! the same load. Every wall time is printed and written (`monolithic_walls_s`,
-//! `cosim_walls_s`).
+//! `cosim_walls_s`), and for each monolithic run the share of its steps whose geometry a
+//! second core made ahead (`monolithic_steps_ahead_fraction`; `tbi run` times both ways as
+//! it goes and keeps the faster, see `run::AheadChoice`).
 //!
 //! `--quick` runs 1 and 2 only. `--json FILE` writes every figure measured under the stable
 //! names `monolithic_realtime_factor`, `cosim_realtime_factor`, `cosim_over_monolithic`,
@@ -174,10 +176,13 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut cosim = s.clone();
     cosim.run.solver = crate::scenario::SolverKind::Cosim;
     let (mut mono_walls, mut co_walls) = (Vec::new(), Vec::new());
+    let mut mono_ahead = Vec::new();
     let (mut mono, mut co) = (None, None);
     for _ in 0..args.repeat {
         let (wall, summary) = timed(&s, &args.out.join("monolithic"))?;
         mono_walls.push(wall);
+        let ahead = summary.steps_ahead.unwrap_or(0) as f64 / summary.steps.max(1) as f64;
+        mono_ahead.push(ahead);
         mono = Some(summary);
         let (wall, summary) = timed(&cosim, &args.out.join("cosim"))?;
         co_walls.push(wall);
@@ -196,6 +201,10 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     );
     figures.insert("monolithic_walls_s".into(), mono_walls.clone().into());
     figures.insert("cosim_walls_s".into(), co_walls.clone().into());
+    figures.insert(
+        "monolithic_steps_ahead_fraction".into(),
+        mono_ahead.clone().into(),
+    );
     let steps = mono.steps as f64;
     println!(
         "monolithic: 8 coaches, 2000 m bridge, 20 modes, 70 km/h, dt 0.005 s (fastest of {} runs, alternating with the co-simulation)",
@@ -206,6 +215,14 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         list(&mono_walls),
         steps / mono_wall,
         sim_time / mono_wall
+    );
+    let shares: Vec<String> = mono_ahead
+        .iter()
+        .map(|a| format!("{:.0} %", 100.0 * a))
+        .collect();
+    println!(
+        "  steps with the geometry made ahead on a second core: {}",
+        shares.join(", ")
     );
     let coupling = co
         .coupling

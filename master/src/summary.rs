@@ -26,6 +26,11 @@ pub struct Summary {
     pub steps: usize,
     pub simulated_time_s: f64,
     pub wall_time_s: f64,
+    /// Monolithic runs: the steps whose geometry a second core made ahead
+    /// ([`tbi_dynamics::solver::Monolithic::run_ahead`], chosen by timing while the run goes
+    /// on; the values are the same either way).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps_ahead: Option<usize>,
     pub bridge: BridgeSummary,
     pub train: TrainSummary,
     /// Per probe, by name.
@@ -144,6 +149,7 @@ impl Summary {
             vehicles: rec.vehicles.clone(),
             safety: rec.safety.clone(),
             coupling: None,
+            steps_ahead: None,
         }
     }
 

@@ -1,6 +1,7 @@
 //! Time integration: the monolithic solver of eq. (14) and the two partitions (bridge with
 //! track, train) that the FMUs wrap.
 
+mod ahead;
 pub mod monolithic;
 pub mod partitioned;
 pub mod sample;

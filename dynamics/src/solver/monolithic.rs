@@ -71,6 +71,124 @@ struct VehicleCache {
     g_tr: Vec<f64>,
 }
 
+/// What a step's geometry reads: the model, where each wheelset sits in the train and in
+/// the blocks.
+struct Placement<'a> {
+    bridge: &'a ModalBridge,
+    train: &'a Train,
+    track: &'a dyn RailProfile,
+    wheelsets: &'a [WheelsetRef],
+    lane_at: &'a [(usize, usize)],
+    /// The step size, s.
+    h: f64,
+}
+
+/// A step's geometry, which depends on the time alone: the wheelsets' positions, their
+/// prescribed rail motion and their rail shapes in the two layouts the step reads.
+#[derive(Debug, Clone, Default)]
+struct Geometry {
+    /// The time it is made for, s.
+    t: f64,
+    /// Wheelset positions, m.
+    x: Vec<f64>,
+    /// Prescribed rail motion (irregularity and hunting) under each wheelset.
+    presc: Vec<[Vector3<f64>; 3]>,
+    /// Every vehicle's `U` (its wheelsets' rail shapes `Ψ`, zeros off the deck) mode after
+    /// mode, vehicle after vehicle from `block_at[i]`: `blocks[block_at[i] + n · 3n_w + 3l + k]
+    /// = Ψ_{w_l}[n][k]`, written with the shapes ([`ModalBridge::rail_shapes_lanes`]). Its
+    /// products `Ψ q` ([`block_mul`]) are those of the step and of
+    /// [`Monolithic::apply_reduced_with`].
+    blocks: Vec<f64>,
+    /// The same shapes as three rows of `N_b` per wheelset, component after component
+    /// (`psi_t[(3w + k) N_b + n] = Ψ_w[n][k]`): a vehicle's wheelsets' rows, one after the
+    /// other, are its `U` rail DOF after rail DOF ([`block_tr_add`]).
+    psi_t: Vec<f64>,
+    /// Per wheelset: on the deck.
+    on: Vec<bool>,
+    /// Scratch of [`ModalBridge::rail_shapes_lanes`].
+    lanes: LaneScratch,
+}
+
+impl Geometry {
+    fn new(nw: usize, nb: usize) -> Self {
+        Geometry {
+            t: 0.0,
+            x: vec![0.0; nw],
+            presc: vec![[Vector3::zeros(); 3]; nw],
+            blocks: vec![0.0; 3 * nw * nb],
+            psi_t: vec![0.0; 3 * nw * nb],
+            on: vec![false; nw],
+            lanes: LaneScratch::default(),
+        }
+    }
+
+    /// Every wheelset's position at `t`.
+    fn positions(&mut self, m: &Placement<'_>, t: f64) {
+        self.t = t;
+        for (x, ws) in self.x.iter_mut().zip(m.wheelsets) {
+            *x = m.train.x_at(ws.offset_m, t);
+        }
+    }
+
+    /// The prescribed rail motion (zero when `flat`) under the wheelsets `busy` at their
+    /// [`Geometry::positions`] at `t`.
+    fn rails(&mut self, m: &Placement<'_>, busy: &[usize], t: f64, flat: bool) {
+        for &w in busy {
+            self.presc[w] = if flat {
+                [Vector3::zeros(); 3]
+            } else {
+                // the track's data a step on is read next step
+                let ws = &m.wheelsets[w];
+                m.track.prefetch(m.train.x_at(ws.offset_m, t + m.h));
+                rail_prescribed(m.track, m.train, w, self.x[w], t)
+            };
+        }
+    }
+
+    /// The rail shapes of the wheelsets `busy` (ascending) at their positions, in both
+    /// layouts, [`SHAPE_LANES`] at a time (each lane's shapes are those of a lane alone).
+    fn shapes(&mut self, m: &Placement<'_>, busy: &[usize]) {
+        let nb = m.bridge.n_modes();
+        let mut psi_t = &mut self.psi_t[..];
+        let mut base = 0;
+        for chunk in busy.chunks(SHAPE_LANES) {
+            let mut rows: [&mut [f64]; SHAPE_LANES] = Default::default();
+            let mut at = [(0, 0); SHAPE_LANES];
+            let mut xs = [0.0; SHAPE_LANES];
+            for (((r, a), x), &w) in rows.iter_mut().zip(&mut at).zip(&mut xs).zip(chunk) {
+                let tail_t = std::mem::take(&mut psi_t)
+                    .split_at_mut((w - base) * 3 * nb)
+                    .1;
+                let (this_t, tail_t) = tail_t.split_at_mut(3 * nb);
+                (*r, psi_t, base) = (this_t, tail_t, w + 1);
+                *a = m.lane_at[w];
+                *x = self.x[w];
+            }
+            let mut on = [false; SHAPE_LANES];
+            let k = chunk.len();
+            m.bridge.rail_shapes_lanes(
+                &xs[..k],
+                &mut self.blocks,
+                &at[..k],
+                &mut rows[..k],
+                &mut on[..k],
+                &mut self.lanes,
+            );
+            for (&w, on) in chunk.iter().zip(on) {
+                self.on[w] = on;
+            }
+        }
+    }
+}
+
+/// The most bytes of rail shapes (both layouts) a step may take from the worker of
+/// [`Monolithic::run_ahead`]: 192 KiB. Measured on the Tsing Ma model at 70 km/h, in the
+/// placement of the cores where the hand-over is dear: up to 154 KiB (100 modes under 8
+/// coaches, 20 modes under 32) the step kept up; at 300 KiB (200 modes under 8 coaches, 50
+/// under 32) the worker, writing lines the stepping core had read, fell behind, and the run
+/// took up to 20 % longer.
+pub const AHEAD_MAX_BYTES: usize = 192 * 1024;
+
 /// Monolithic Newmark integration of eq. (14) (see the module docs).
 pub struct Monolithic {
     pub bridge: ModalBridge,
@@ -86,29 +204,23 @@ pub struct Monolithic {
     pub vehicles: Vec<VehicleState>,
     /// Train wheelsets front to back.
     pub wheelsets: Vec<WheelsetRef>,
-    /// Wheelset positions at `t`, m.
-    pub x: Vec<f64>,
     /// Total rail motion (u, u̇, ü) of each wheelset at `t`.
     pub rail: Vec<[Vector3<f64>; 3]>,
     /// Force of each wheelset on the rail at `t` (F_y, M_x, F_z).
     pub forces: Vec<Vector3<f64>>,
     omega: Vec<f64>,
     zeta: Vec<f64>,
-    /// Every vehicle's `U` (its wheelsets' rail shapes `Ψ`, zeros off the deck) mode after
-    /// mode, vehicle after vehicle from `block_at[i]`: `blocks[block_at[i] + n · 3n_w + 3l + k]
-    /// = Ψ_{w_l}[n][k]`, written with the shapes ([`ModalBridge::rail_shapes_lanes`]). Its
-    /// products `Ψ q` ([`block_mul`]) are those of the step and of
-    /// [`Monolithic::apply_reduced_with`].
-    blocks: Vec<f64>,
+    /// Where each vehicle's `U` starts in [`Geometry::blocks`].
     block_at: Vec<usize>,
-    /// Each wheelset's lane in [`Monolithic::blocks`], `(start, stride)`: its vehicle's
+    /// Each wheelset's lane in [`Geometry::blocks`], `(start, stride)`: its vehicle's
     /// `block_at + 3l` and `3n_w`.
     lane_at: Vec<(usize, usize)>,
-    /// The same shapes as three rows of `N_b` per wheelset, component after component
-    /// (`psi_t[(3w + k) N_b + n] = Ψ_w[n][k]`): a vehicle's wheelsets' rows, one after the
-    /// other, are its `U` rail DOF after rail DOF ([`block_tr_add`]).
-    psi_t: Vec<f64>,
-    presc: Vec<[Vector3<f64>; 3]>,
+    /// The geometry at `t` ([`Monolithic::update_geometry`]).
+    geo: Geometry,
+    /// The worker making the geometry of the steps to come ([`Monolithic::run_ahead`]).
+    ahead: Option<super::ahead::Ahead<Geometry>>,
+    /// The worker's copy of the bridge and the train, kept for its next start.
+    ahead_model: Option<(Arc<ModalBridge>, Arc<Train>)>,
     /// Per vehicle, its constant blocks (shared by the vehicles of one model).
     cache: Vec<Arc<VehicleCache>>,
     /// The deck's buffeting forces, when the bridge has a turbulent wind.
@@ -123,7 +235,6 @@ pub struct Monolithic {
     varying: Vec<usize>,
     /// The vehicles without wheelsets (stepped though no wheelset makes them busy).
     loose: Vec<usize>,
-    on: Vec<bool>,
     work: Work,
 }
 
@@ -193,18 +304,16 @@ impl Monolithic {
             qd: DVector::zeros(nb),
             qdd: DVector::zeros(nb),
             wheelsets,
-            x: vec![0.0; nw],
             rail: vec![[Vector3::zeros(); 3]; nw],
             forces: vec![Vector3::zeros(); nw],
-            blocks: vec![0.0; 3 * nw * nb],
             block_at,
             lane_at,
-            psi_t: vec![0.0; 3 * nw * nb],
-            presc: vec![[Vector3::zeros(); 3]; nw],
+            geo: Geometry::new(nw, nb),
+            ahead: None,
+            ahead_model: None,
             cache,
             first_ws,
             wheel_forces,
-            on: vec![false; nw],
             work: Work::default(),
         };
         s.work = Work::new(nb, &s.train);
@@ -215,7 +324,7 @@ impl Monolithic {
         }
         s.update_geometry(0.0);
         for w in 0..nw {
-            s.rail[w] = s.presc[w];
+            s.rail[w] = s.geo.presc[w];
         }
         s.vehicles = s
             .train
@@ -242,6 +351,11 @@ impl Monolithic {
 
     pub fn dt(&self) -> f64 {
         self.nm.h
+    }
+
+    /// Wheelset positions at [`Monolithic::t`], m.
+    pub fn x(&self) -> &[f64] {
+        &self.geo.x
     }
 
     /// The reduced bridge matrix `A = D̂ + Σ Uᵀ S U` (`N_b × N_b`, symmetric) at the
@@ -273,14 +387,14 @@ impl Monolithic {
     /// Wheelset `w`'s rail shapes `Ψ_w[n]`, from its rows of [`Monolithic::psi_t`].
     fn shapes_w(&self, w: usize) -> Vec<[f64; 3]> {
         let nb = self.q.len();
-        let r = &self.psi_t[3 * nb * w..3 * nb * (w + 1)];
+        let r = &self.geo.psi_t[3 * nb * w..3 * nb * (w + 1)];
         (0..nb).map(|n| [r[n], r[nb + n], r[2 * nb + n]]).collect()
     }
 
     /// Vehicle `i`'s `U` mode after mode, in [`Monolithic::blocks`].
     fn block(&self, i: usize) -> &[f64] {
         let r3 = 3 * self.train.vehicles[i].model.wheelsets.len();
-        &self.blocks[self.block_at[i]..self.block_at[i] + r3 * self.q.len()]
+        &self.geo.blocks[self.block_at[i]..self.block_at[i] + r3 * self.q.len()]
     }
 
     /// Positions, Ψ and prescribed rail motion at time `t`, and the wheelsets and vehicles
@@ -294,15 +408,48 @@ impl Monolithic {
     /// with the same inputs, would too (the vehicles of a train that has not reached the
     /// bridge yet). An HSLM train on a short span has most of its axles off the deck. Every
     /// other wheelset is busy.
+    ///
+    /// With [`Monolithic::run_ahead`] (never on the ideal track, where the idle wheelsets
+    /// depend on the state) every wheelset is busy, and the geometry was made by the worker:
+    /// the same [`Geometry::positions`], [`Geometry::rails`] and [`Geometry::shapes`], the
+    /// same values.
     fn update_geometry(&mut self, t: f64) {
-        let nb = self.q.len();
-        // on the ideal track without hunting the prescribed motion is zero everywhere
-        let flat = self.track.is_flat() && !self.train.hunting.is_active();
+        let flat = self.flat();
         let idle_allowed = flat && self.work.flat_before;
         self.work.flat_before = flat;
-        for (w, ws) in self.wheelsets.iter().enumerate() {
-            self.x[w] = self.train.x_at(ws.offset_m, t);
+        if let Some(ahead) = &mut self.ahead {
+            let geo = &mut self.geo;
+            // the held slot gets its own buffers back, this step's come in
+            let ok = ahead.next(|held, g| {
+                if let Some(h) = held {
+                    std::mem::swap(h, geo);
+                }
+                let same = g.t.to_bits() == t.to_bits();
+                if same {
+                    std::mem::swap(g, geo);
+                }
+                same
+            });
+            if ok == Some(true) {
+                let busy = &mut self.work.busy;
+                busy.clear();
+                busy.extend(0..self.wheelsets.len());
+                self.busy_vehicles();
+                return;
+            }
+            // out of step with the worker (or the worker stopped): made here from now on
+            self.ahead = None;
         }
+        let model = Placement {
+            bridge: &self.bridge,
+            train: &self.train,
+            track: &*self.track,
+            wheelsets: &self.wheelsets,
+            lane_at: &self.lane_at,
+            h: self.nm.h,
+        };
+        let geo = &mut self.geo;
+        geo.positions(&model, t);
         // the vehicles at rest stay so while they stay off the deck (one that does not is
         // stepped, which tells anew)
         let rest = &mut self.work.resting;
@@ -311,73 +458,118 @@ impl Monolithic {
             rest[i] = rest[i]
                 && idle_allowed
                 && (f0..f0 + tv.model.wheelsets.len())
-                    .all(|w| !self.on[w] && !self.bridge.on_deck(self.x[w]));
+                    .all(|w| !geo.on[w] && !self.bridge.on_deck(geo.x[w]));
         }
         let busy = &mut self.work.busy;
         busy.clear();
         for (w, ws) in self.wheelsets.iter().enumerate() {
-            let x = self.x[w];
+            let x = geo.x[w];
             if idle_allowed
-                && !self.on[w]
+                && !geo.on[w]
                 && !self.bridge.on_deck(x)
                 && (self.inert[w] || rest[ws.vehicle])
             {
                 continue;
             }
             busy.push(w);
-            self.presc[w] = if flat {
-                [Vector3::zeros(); 3]
-            } else {
-                // the track's data a step on is read next step
-                self.track
-                    .prefetch(self.train.x_at(ws.offset_m, t + self.nm.h));
-                rail_prescribed(&*self.track, &self.train, w, x, t)
-            };
         }
-        // the busy wheelsets' shapes, SHAPE_LANES at a time (each lane's shapes are those
-        // of a lane alone)
-        let lanes = &mut self.work.lanes;
-        let mut psi_t = &mut self.psi_t[..];
-        let mut base = 0;
-        for chunk in busy.chunks(SHAPE_LANES) {
-            let mut rows: [&mut [f64]; SHAPE_LANES] = Default::default();
-            let mut at = [(0, 0); SHAPE_LANES];
-            let mut xs = [0.0; SHAPE_LANES];
-            for (((r, a), x), &w) in rows.iter_mut().zip(&mut at).zip(&mut xs).zip(chunk) {
-                let tail_t = std::mem::take(&mut psi_t)
-                    .split_at_mut((w - base) * 3 * nb)
-                    .1;
-                let (this_t, tail_t) = tail_t.split_at_mut(3 * nb);
-                (*r, psi_t, base) = (this_t, tail_t, w + 1);
-                *a = self.lane_at[w];
-                *x = self.x[w];
-            }
-            let mut on = [false; SHAPE_LANES];
-            let m = chunk.len();
-            self.bridge.rail_shapes_lanes(
-                &xs[..m],
-                &mut self.blocks,
-                &at[..m],
-                &mut rows[..m],
-                &mut on[..m],
-                lanes,
-            );
-            for (&w, on) in chunk.iter().zip(on) {
-                self.on[w] = on;
-            }
-        }
-        // the vehicles of the busy wheelsets and those without wheelsets, ascending
-        let vehicles = &mut self.work.busy_vehicles;
+        geo.rails(&model, busy, t, flat);
+        geo.shapes(&model, busy);
+        self.busy_vehicles();
+    }
+
+    /// The vehicles of the busy wheelsets and those without wheelsets, ascending, into
+    /// `work.busy_vehicles`.
+    fn busy_vehicles(&mut self) {
+        let w = &mut self.work;
+        let vehicles = &mut w.busy_vehicles;
         vehicles.clear();
         let mut loose = self.loose.iter().copied().peekable();
-        for &w in busy.iter() {
-            let v = self.wheelsets[w].vehicle;
+        for &ws in w.busy.iter() {
+            let v = self.wheelsets[ws].vehicle;
             vehicles.extend(std::iter::from_fn(|| loose.next_if(|&l| l < v)));
             if vehicles.last() != Some(&v) {
                 vehicles.push(v);
             }
         }
         vehicles.extend(loose);
+    }
+
+    /// Make each step's geometry ([`Geometry`]) on a worker thread up to seven steps ahead
+    /// ([`super::ahead`]), while this thread steps: the same values as made here, bit for
+    /// bit, the step's other work alone on this thread. Returns whether the worker runs; it
+    /// does only where it may pay ([`Monolithic::ahead_may_pay`]). The worker works from a
+    /// copy of the bridge and the train as they were at the first call (changes to
+    /// [`Monolithic::bridge`] or [`Monolithic::train`] after it are not seen by it).
+    /// A step whose time is not the worker's (`t` set from outside) makes its own geometry,
+    /// and the worker is stopped. The worker spins while it is ahead, so it takes a core of
+    /// its own: for runs alone on a machine with cores to spare.
+    pub fn run_ahead(&mut self) -> bool {
+        if !self.ahead_may_pay() {
+            return false;
+        }
+        if self.ahead.is_some() {
+            return true;
+        }
+        let (bridge, train) = self
+            .ahead_model
+            .get_or_insert_with(|| (Arc::new(self.bridge.clone()), Arc::new(self.train.clone())))
+            .clone();
+        let track = self.track.clone();
+        let (wheelsets, lane_at, h) = (self.wheelsets.clone(), self.lane_at.clone(), self.nm.h);
+        let busy: Vec<usize> = (0..wheelsets.len()).collect();
+        let mut t = self.t;
+        let (nw, nb) = (self.wheelsets.len(), self.bridge.n_modes());
+        // the slots' buffers are made by the worker (apart from this thread's)
+        let slots = (0..8).map(|_| Geometry::default()).collect();
+        let fill = move |_k: u64, g: &mut Geometry| {
+            if g.x.len() != nw {
+                *g = Geometry::new(nw, nb);
+            }
+            t += h;
+            let model = Placement {
+                bridge: &bridge,
+                train: &train,
+                track: &*track,
+                wheelsets: &wheelsets,
+                lane_at: &lane_at,
+                h,
+            };
+            g.positions(&model, t);
+            g.rails(&model, &busy, t, false);
+            g.shapes(&model, &busy);
+        };
+        self.ahead = super::ahead::Ahead::spawn(slots, fill).ok();
+        self.ahead.is_some()
+    }
+
+    /// Whether [`Monolithic::run_ahead`] may make the run faster: the geometry does not
+    /// depend on the state (it does on the ideal track without hunting, whose idle
+    /// wheelsets are left out), and a step's shapes keep within [`AHEAD_MAX_BYTES`]. Whether
+    /// it does depends on the machine: on two cores of a virtual machine, the Tsing Ma case
+    /// (nodal shapes, each value a Lagrange combination over its stencil; 20 modes, 8
+    /// coaches) ran in 0.61 s ahead against 0.95 s when the host had placed the two cores
+    /// so that a cache line crossed between them cheaply, and in 1.02–1.07 s when it had
+    /// not; the bench case (sine shapes, a cheap recurrence) in 0.198 s against 0.260 s, or
+    /// in 0.265–0.29 s. So a caller measures ([`Monolithic::stop_ahead`]).
+    pub fn ahead_may_pay(&self) -> bool {
+        let bytes = 2 * self.geo.blocks.len() * std::mem::size_of::<f64>();
+        !self.flat() && bytes <= AHEAD_MAX_BYTES
+    }
+
+    /// The ideal track without hunting: the prescribed motion is zero everywhere.
+    fn flat(&self) -> bool {
+        self.track.is_flat() && !self.train.hunting.is_active()
+    }
+
+    /// Whether the geometry is made ahead ([`Monolithic::run_ahead`]).
+    pub fn runs_ahead(&self) -> bool {
+        self.ahead.is_some()
+    }
+
+    /// Stop making the geometry ahead: each step makes its own from now on, the same values.
+    pub fn stop_ahead(&mut self) {
+        self.ahead = None;
     }
 
     fn initial_bridge_acceleration(&mut self) {
@@ -421,7 +613,7 @@ impl Monolithic {
         let (q, qd, qdd) = (self.q.as_slice(), self.qd.as_slice(), self.qdd.as_slice());
         out.clear();
         out.extend((0..self.wheelsets.len()).map(|w| {
-            if self.on[w] {
+            if self.geo.on[w] {
                 psi_mul3(&self.shapes_w(w), q, qd, qdd)
             } else {
                 [Vector3::zeros(); 3]
@@ -453,7 +645,7 @@ impl Monolithic {
             block_mul(u, self.q.as_slice(), uq);
             for (l, v) in uq.chunks_exact(3).enumerate() {
                 let ws = f0 + l;
-                if self.on[ws] {
+                if self.geo.on[ws] {
                     let u = Vector3::new(v[0], v[1], v[2]);
                     let [pv, pm] = w.pred[ws];
                     out[ws] = [u, a1 * u - pv, a0 * u - pm];
@@ -479,8 +671,8 @@ impl Monolithic {
         stepped: Option<&[f64]>,
     ) {
         for &w in busy {
-            let p = self.presc[w];
-            let [u, ud, udd] = if self.on[w] {
+            let p = self.geo.presc[w];
+            let [u, ud, udd] = if self.geo.on[w] {
                 let [a, b, c] = deck[w];
                 [a + p[0], b + p[1], c + p[2]]
             } else {
@@ -555,8 +747,8 @@ impl Monolithic {
             }
             for (l, c) in model.wheelsets.iter().enumerate() {
                 let ws = f0 + l;
-                let [r, rd, rdd] = self.presc[ws];
-                let on = self.on[ws];
+                let [r, rd, rdd] = self.geo.presc[ws];
+                let on = self.geo.on[ws];
                 let (pv, pm) = if on {
                     let at = |u: &[f64]| Vector3::new(u[3 * l], u[3 * l + 1], u[3 * l + 2]);
                     (at(uqc), at(uqm))
@@ -576,7 +768,7 @@ impl Monolithic {
                         // part without the vehicle's unknowns)
                         w.gv[3 * l..3 * l + 3].copy_from_slice(g.as_slice());
                     } else {
-                        let rows = &self.psi_t[3 * nb * ws..3 * nb * (ws + 1)];
+                        let rows = &self.geo.psi_t[3 * nb * ws..3 * nb * (ws + 1)];
                         crate::simd::project_rows(w.bq.as_mut_slice(), rows, [g.x, g.y, g.z]);
                     }
                 }
@@ -645,7 +837,7 @@ impl Monolithic {
             w.resting[i] = !changed
                 && w.flat_before
                 && self.train.wind.is_none()
-                && (f0..f0 + nwi).all(|ws| !self.on[ws]);
+                && (f0..f0 + nwi).all(|ws| !self.geo.on[ws]);
         }
         self.t = t1;
         self.finish_outputs_of(&w.busy, &w.deck, Some(&w.gz));
@@ -700,7 +892,7 @@ impl Monolithic {
         for &i in vehicles {
             let f0 = self.first_ws[i];
             let nwi = self.train.vehicles[i].model.wheelsets.len();
-            live[i] = self.on[f0..f0 + nwi].iter().any(|&on| on);
+            live[i] = self.geo.on[f0..f0 + nwi].iter().any(|&on| on);
         }
     }
 
@@ -709,7 +901,7 @@ impl Monolithic {
     fn block_t(&self, i: usize) -> &[f64] {
         let (nb, f0) = (self.q.len(), self.first_ws[i]);
         let nwi = self.train.vehicles[i].model.wheelsets.len();
-        &self.psi_t[3 * nb * f0..3 * nb * (f0 + nwi)]
+        &self.geo.psi_t[3 * nb * f0..3 * nb * (f0 + nwi)]
     }
 
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled): per vehicle
@@ -1250,8 +1442,6 @@ struct Work {
     bv: Vec<DVector<f64>>,
     /// Per vehicle (3 n_w values): `H b_v`, then `U q₁`.
     z: Vec<DVector<f64>>,
-    /// Scratch of [`ModalBridge::rail_shapes_lanes`].
-    lanes: LaneScratch,
     /// The deck's part of the rail motion under each wheelset at the end of the step.
     deck: Vec<[Vector3<f64>; 3]>,
     /// Per wheelset on the deck: `Ψ` times the bridge's damping and mass predictors
@@ -1318,7 +1508,6 @@ impl Work {
             vc: per(&|m| m.ndof()),
             bv: per(&|m| m.ndof()),
             z: per(&|m| 3 * m.wheelsets.len()),
-            lanes: LaneScratch::default(),
             deck: Vec::new(),
             pred: vec![[Vector3::zeros(); 2]; train.wheelsets().len()],
             gv: vec![0.0; wmax],
