@@ -219,10 +219,12 @@ fn may_use_second_core() -> bool {
 /// the hand-over of the shapes between the cores costs what the cores' placement makes it
 /// (on a virtual machine of two cores the Tsing Ma case ran 35 % faster ahead in one
 /// placement and 13 % slower in another, and the host moves the cores). A choice times
-/// four windows of [`AheadChoice::TIMED`] steps, the way of the moment, the other, the
+/// four windows of [`AheadChoice::PARTS`] × [`AheadChoice::PART`] steps, the way of the moment, the other, the
 /// other again and the first again (so that a cost changing steadily along the run, as
 /// the train moves onto the bridge, weighs on both alike), each after
-/// [`AheadChoice::SETTLE`] steps untimed (the worker's start, the caches); it takes the
+/// [`AheadChoice::SETTLE`] steps untimed (the worker's start, the caches) and each counted
+/// by the faster half of its [`AheadChoice::PARTS`] parts (so that another process taking
+/// the core for a while does not decide); it takes the
 /// way ahead only when that was [`AheadChoice::MARGIN`] faster, and keeps its choice for
 /// [`AheadChoice::KEEP_MIN`] steps, twice as long each time it makes the same choice again,
 /// up to [`AheadChoice::KEEP_MAX`]: the first steps of a run are not those of a train on
@@ -231,10 +233,11 @@ fn may_use_second_core() -> bool {
 struct AheadChoice {
     /// Steps left in this phase, the coming one included.
     left: usize,
-    /// The window being timed (0–3; 4 while keeping), and whether its steps are being
-    /// timed yet (after the settling ones).
+    /// The window being timed (0–3; 4 while keeping), and its part being timed (1 to
+    /// `PARTS`; 0 while settling), with the parts' seconds.
     window: usize,
-    timing: bool,
+    part: usize,
+    parts: [f64; AheadChoice::PARTS],
     start: Instant,
     /// Seconds of the timed windows: the way of the moment's, the other's.
     first: f64,
@@ -245,7 +248,8 @@ struct AheadChoice {
 
 impl AheadChoice {
     const SETTLE: usize = 32;
-    const TIMED: usize = 256;
+    const PART: usize = 32;
+    const PARTS: usize = 8;
     const KEEP_MIN: usize = 2048;
     const KEEP_MAX: usize = 32768;
     const MARGIN: f64 = 0.03;
@@ -254,7 +258,8 @@ impl AheadChoice {
         AheadChoice {
             left: Self::SETTLE,
             window: 0,
-            timing: false,
+            part: 0,
+            parts: [0.0; Self::PARTS],
             start: Instant::now(),
             first: 0.0,
             other: 0.0,
@@ -282,15 +287,21 @@ impl AheadChoice {
         if self.window == 4 {
             // the choice kept long enough: time again
             (self.window, self.first, self.other) = (0, 0.0, 0.0);
-            (self.timing, self.left) = (false, Self::SETTLE);
+            (self.part, self.left) = (0, Self::SETTLE);
             return;
         }
-        if !self.timing {
-            (self.timing, self.left) = (true, Self::TIMED);
+        if self.part > 0 {
+            self.parts[self.part - 1] = self.start.elapsed().as_secs_f64();
+        }
+        if self.part < Self::PARTS {
+            (self.part, self.left) = (self.part + 1, Self::PART);
             self.start = Instant::now();
             return;
         }
-        let took = self.start.elapsed().as_secs_f64();
+        // the window's faster half of its parts: a part the machine took the core from (a
+        // scheduler's tick is milliseconds, a part a fraction of one) is left out
+        self.parts.sort_by(f64::total_cmp);
+        let took: f64 = self.parts[..Self::PARTS / 2].iter().sum();
         if self.window == 0 || self.window == 3 {
             self.first += took;
         } else {
@@ -302,7 +313,7 @@ impl AheadChoice {
             if self.window != 2 {
                 Self::switch(sol);
             }
-            (self.timing, self.left) = (false, Self::SETTLE);
+            (self.part, self.left) = (0, Self::SETTLE);
             return;
         }
         let (ahead, plain) = if sol.runs_ahead() {
@@ -396,7 +407,7 @@ mod tests {
         let (mut sol, mut plain) = (new(), new());
         assert!(sol.ahead_may_pay());
         let mut c = AheadChoice::new();
-        let w = AheadChoice::SETTLE + AheadChoice::TIMED;
+        let w = AheadChoice::SETTLE + AheadChoice::PARTS * AheadChoice::PART;
         let mut ways = Vec::new();
         for _ in 0..(4 * w + AheadChoice::KEEP_MIN + 2 * w) {
             c.before_step(&mut sol);
