@@ -93,7 +93,7 @@ fn the_geometry_made_ahead_gives_the_same_steps_bit_for_bit() {
     for bridge in [sine_bridge(), nodal_bridge()] {
         let (mut here, mut ahead) = (solver(&bridge), solver(&bridge));
         assert!(ahead.ahead_may_pay());
-        assert!(ahead.run_ahead() && ahead.runs_ahead());
+        assert!(ahead.run_ahead(None) && ahead.runs_ahead());
         assert_eq!(here.q.amax(), 0.0, "the train starts off the deck");
         for k in 0..900 {
             match k {
@@ -101,7 +101,7 @@ fn the_geometry_made_ahead_gives_the_same_steps_bit_for_bit() {
                     ahead.stop_ahead();
                     assert!(!ahead.runs_ahead());
                 }
-                400 => assert!(ahead.run_ahead()),
+                400 => assert!(ahead.run_ahead(None)),
                 _ => {}
             }
             here.step();
@@ -119,7 +119,7 @@ fn the_geometry_made_ahead_gives_the_same_steps_bit_for_bit() {
 fn a_step_out_of_step_with_the_worker_makes_its_own_geometry() {
     let bridge = nodal_bridge();
     let (mut here, mut ahead) = (solver(&bridge), solver(&bridge));
-    assert!(ahead.run_ahead());
+    assert!(ahead.run_ahead(None));
     for k in 0..500 {
         if k == 250 {
             here.t += 1e-3;
@@ -139,6 +139,6 @@ fn no_worker_on_the_ideal_track() {
     let train = train_of(vec![(c, 0.0)], 30.0, -10.0);
     let mut sol = Monolithic::new(sine_bridge(), train, Arc::new(Smooth), 2e-3);
     assert!(!sol.ahead_may_pay());
-    assert!(!sol.run_ahead());
+    assert!(!sol.run_ahead(None));
     assert!(!sol.runs_ahead());
 }

@@ -229,7 +229,13 @@ fn may_use_second_core() -> bool {
 /// [`AheadChoice::KEEP_MIN`] steps, twice as long each time it makes the same choice again,
 /// up to [`AheadChoice::KEEP_MAX`]: the first steps of a run are not those of a train on
 /// the bridge (the Tsing Ma case, timed at 2.3 s, ran 14 % faster ahead, and from 37 s on
-/// 5–10 % slower). The values are the same either way, bit for bit.
+/// 5–10 % slower). A step that waits for the worker longer than
+/// [`tbi_dynamics::solver::MAX_LAG`] (another process has taken its core) ends the way
+/// ahead at once, and a choice whose windows on one core saw another process running at
+/// every look (one per part, [`procs_running`]) keeps one core: with one busy process on a
+/// machine of two cores, runs that timed the way ahead took 1.6–2.5 times as long. Either
+/// ends as a choice of one core made again. The values are the same either way, bit for
+/// bit.
 struct AheadChoice {
     /// Steps left in this phase, the coming one included.
     left: usize,
@@ -244,18 +250,28 @@ struct AheadChoice {
     other: f64,
     /// Steps the last choice is kept for.
     keep: usize,
+    /// The longest a step waits for the worker ([`Monolithic::run_ahead`]).
+    give_up: Option<std::time::Duration>,
+    /// The fewest threads running on the machine at the looks during this choice's
+    /// windows on one core (this run's own included; `usize::MAX` before the first look).
+    running: usize,
+    /// How it looks: [`procs_running`].
+    look: fn() -> Option<usize>,
 }
 
 impl AheadChoice {
     const SETTLE: usize = 32;
     const PART: usize = 32;
     const PARTS: usize = 8;
-    const KEEP_MIN: usize = 2048;
+    const KEEP_MIN: usize = 512;
     const KEEP_MAX: usize = 32768;
     const MARGIN: f64 = 0.03;
 
-    fn new() -> Self {
+    fn new(give_up: Option<std::time::Duration>, look: fn() -> Option<usize>) -> Self {
         AheadChoice {
+            give_up,
+            running: usize::MAX,
+            look,
             left: Self::SETTLE,
             window: 0,
             part: 0,
@@ -269,17 +285,34 @@ impl AheadChoice {
 
     /// Before each step: start or end a window where a phase ends.
     fn before_step(&mut self, sol: &mut Monolithic) {
+        if sol.take_ahead_lost() {
+            // the worker fell behind (another process has its core)
+            self.keep_one_core();
+        }
         if self.left == 0 {
             self.next_phase(sol);
         }
         self.left -= 1;
     }
 
-    fn switch(sol: &mut Monolithic) {
+    /// Whether another process was running at every look during this choice's windows on
+    /// one core (the way ahead would share a core with it).
+    fn busy(&self) -> bool {
+        self.running != usize::MAX && self.running >= 2
+    }
+
+    /// One core, kept as a choice made again (the worker, if any, already stopped).
+    fn keep_one_core(&mut self) {
+        self.window = 4;
+        self.keep = (2 * self.keep).min(Self::KEEP_MAX);
+        self.left = self.keep;
+    }
+
+    fn switch(&self, sol: &mut Monolithic) {
         if sol.runs_ahead() {
             sol.stop_ahead();
         } else {
-            sol.run_ahead();
+            sol.run_ahead(self.give_up);
         }
     }
 
@@ -288,10 +321,14 @@ impl AheadChoice {
             // the choice kept long enough: time again
             (self.window, self.first, self.other) = (0, 0.0, 0.0);
             (self.part, self.left) = (0, Self::SETTLE);
+            self.running = usize::MAX;
             return;
         }
         if self.part > 0 {
             self.parts[self.part - 1] = self.start.elapsed().as_secs_f64();
+            if !sol.runs_ahead() {
+                self.running = self.running.min((self.look)().unwrap_or(1));
+            }
         }
         if self.part < Self::PARTS {
             (self.part, self.left) = (self.part + 1, Self::PART);
@@ -308,10 +345,15 @@ impl AheadChoice {
             self.other += took;
         }
         self.window += 1;
+        if self.busy() && !sol.runs_ahead() {
+            // another process runs all along: the worker would share a core with it
+            self.keep_one_core();
+            return;
+        }
         if self.window < 4 {
             // the middle two windows are the other way's
             if self.window != 2 {
-                Self::switch(sol);
+                self.switch(sol);
             }
             (self.part, self.left) = (0, Self::SETTLE);
             return;
@@ -322,8 +364,8 @@ impl AheadChoice {
             (self.other, self.first)
         };
         let was = sol.runs_ahead();
-        if (ahead < (1.0 - Self::MARGIN) * plain) != was {
-            Self::switch(sol);
+        if (ahead < (1.0 - Self::MARGIN) * plain && !self.busy()) != was {
+            self.switch(sol);
         }
         // the same choice again: kept twice as long; another: kept shortly
         self.keep = if sol.runs_ahead() == was {
@@ -333,6 +375,14 @@ impl AheadChoice {
         };
         self.left = self.keep;
     }
+}
+
+/// The threads running on the machine at this moment (Linux: `procs_running` of
+/// `/proc/stat`, the reader included); None where the system does not say.
+fn procs_running() -> Option<usize> {
+    let stat = std::fs::read_to_string("/proc/stat").ok()?;
+    let line = stat.lines().find(|l| l.starts_with("procs_running "))?;
+    line["procs_running ".len()..].trim().parse().ok()
 }
 
 /// Integrate the model with the monolithic solver of eq. (14); the number of steps whose
@@ -350,7 +400,8 @@ pub fn run_monolithic<W: std::io::Write>(
     );
     // the geometry of the coming steps on a core of its own, for a run alone in the process
     // on a machine with cores to spare (not in a sweep, whose runs take the cores)
-    let mut ahead = (may_use_second_core() && sol.ahead_may_pay()).then(AheadChoice::new);
+    let mut ahead = (may_use_second_core() && sol.ahead_may_pay())
+        .then(|| AheadChoice::new(Some(tbi_dynamics::solver::MAX_LAG), procs_running));
     let mut steps_ahead = 0;
     let probe_x: Vec<f64> = model.probes.iter().map(|p| p.1).collect();
     let shapes = ProbeShapes::new(&model.bridge, &probe_x);
@@ -406,7 +457,9 @@ mod tests {
         };
         let (mut sol, mut plain) = (new(), new());
         assert!(sol.ahead_may_pay());
-        let mut c = AheadChoice::new();
+        // a machine that runs nothing else, and a step that waits for the worker as long
+        // as it takes (the tests run side by side)
+        let mut c = AheadChoice::new(None, || Some(1));
         let w = AheadChoice::SETTLE + AheadChoice::PARTS * AheadChoice::PART;
         let mut ways = Vec::new();
         for _ in 0..(4 * w + AheadChoice::KEEP_MIN + 2 * w) {
@@ -425,5 +478,32 @@ mod tests {
         let timed = 4 * w + AheadChoice::KEEP_MIN;
         assert!(all(4 * w..timed + w, kept));
         assert!(all(timed + w..timed + 2 * w, !kept));
+    }
+
+    /// With another process running at every look, the choice keeps one core after its
+    /// first window and never starts the worker.
+    #[test]
+    fn a_busy_machine_keeps_one_core() {
+        let model = build(&Scenario::default_case()).unwrap();
+        let mut sol = Monolithic::new(
+            model.bridge.clone(),
+            model.train.clone(),
+            model.track.clone(),
+            model.dt,
+        );
+        let mut c = AheadChoice::new(None, || Some(2));
+        for _ in 0..3 * AheadChoice::KEEP_MIN {
+            c.before_step(&mut sol);
+            assert!(!sol.runs_ahead());
+            sol.step();
+        }
+        let mut idle = AheadChoice::new(None, || Some(1));
+        let mut started = false;
+        for _ in 0..3 * AheadChoice::KEEP_MIN {
+            idle.before_step(&mut sol);
+            started |= sol.runs_ahead();
+            sol.step();
+        }
+        assert!(started, "an idle machine times the way ahead");
     }
 }

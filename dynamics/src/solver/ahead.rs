@@ -20,6 +20,14 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
+/// How long a loop that gives up waits at most for a slot ([`Ahead::spawn`]'s `give_up`):
+/// a worker that falls this far behind has no core of its own (another process runs on
+/// it), and the loop is better off alone. Without other load on the machine the loop of the
+/// bench case waited for its slot a few times in 22 378 steps, up to about a millisecond in
+/// all; with one other busy process on a machine of two cores a run whose geometry was made
+/// ahead took three times as long.
+pub const MAX_LAG: Duration = Duration::from_millis(2);
+
 /// How long the loop spins before it sleeps.
 const SPIN: Duration = Duration::from_micros(200);
 
@@ -65,8 +73,14 @@ impl<T> Shared<T> {
     }
 
     /// Wait until `ready()`: spin for `spin`, then sleep with `sleeps` set. False when the
-    /// ring closes first.
-    fn wait(&self, sleeps: &AtomicBool, spin: Duration, ready: impl Fn() -> bool) -> bool {
+    /// ring closes first, or when `give_up` has passed.
+    fn wait(
+        &self,
+        sleeps: &AtomicBool,
+        spin: Duration,
+        give_up: Option<Duration>,
+        ready: impl Fn() -> bool,
+    ) -> bool {
         let start = Instant::now();
         let mut spins = 0u32;
         loop {
@@ -79,7 +93,14 @@ impl<T> Shared<T> {
             spins = spins.wrapping_add(1);
             // no `spin_loop` hint: in a virtual machine a loop of pause instructions may
             // make the host take the core, which the other side then waits for
-            if spins & 63 != 0 || start.elapsed() < spin {
+            if spins & 63 != 0 {
+                continue;
+            }
+            let waited = start.elapsed();
+            if give_up.is_some_and(|g| waited >= g) {
+                return ready();
+            }
+            if waited < spin {
                 continue;
             }
             sleeps.store(true, Ordering::SeqCst);
@@ -87,8 +108,11 @@ impl<T> Shared<T> {
             if !ready() && !self.closed.0.load(Ordering::SeqCst) {
                 // the other side, after its counter's store, sees `sleeps` and unparks (a
                 // token given before the park makes it return at once); the timeout is a
-                // guard
-                thread::park_timeout(Duration::from_millis(10));
+                // guard, and the end of the wait
+                let guard = Duration::from_millis(10);
+                thread::park_timeout(
+                    give_up.map_or(guard, |g| g.saturating_sub(waited).min(guard)),
+                );
             }
             sleeps.store(false, Ordering::SeqCst);
         }
@@ -103,14 +127,18 @@ pub struct Ahead<T> {
     next: u64,
     /// `filled` as last read (the loop reads the counter only when its step passes this).
     filled: u64,
+    /// The longest the loop waits for a slot.
+    give_up: Option<Duration>,
 }
 
 impl<T: Send + 'static> Ahead<T> {
     /// Start the worker with the ring's `slots` (at least three); it calls `fill(k, slot)`
     /// for `k = 0, 1, 2, …` in order. What a slot holds is best allocated by the worker, in
-    /// its first fill (the worker's allocations lie apart from the loop's).
+    /// its first fill (the worker's allocations lie apart from the loop's). With `give_up`
+    /// the loop waits at most that long for a slot ([`Ahead::next`]; [`MAX_LAG`]).
     pub fn spawn(
         slots: Vec<T>,
+        give_up: Option<Duration>,
         mut fill: impl FnMut(u64, &mut T) + Send + 'static,
     ) -> std::io::Result<Self> {
         assert!(slots.len() >= 3, "a ring of at least three slots");
@@ -144,6 +172,9 @@ impl<T: Send + 'static> Ahead<T> {
                 let s = &*close.0;
                 let mut returned = 0;
                 for k in 0.. {
+                    if s.closed.0.load(Ordering::Relaxed) {
+                        return;
+                    }
                     if returned + n <= k {
                         returned = s.returned.0.load(Ordering::Acquire);
                     }
@@ -157,7 +188,7 @@ impl<T: Send + 'static> Ahead<T> {
                             let r = s.returned.0.load(Ordering::Acquire);
                             r + n > k && (r >= at || start.elapsed() < WORKER_SPIN)
                         };
-                        if !s.wait(&s.worker_sleeps.0, WORKER_SPIN, ready) {
+                        if !s.wait(&s.worker_sleeps.0, WORKER_SPIN, None, ready) {
                             return;
                         }
                         returned = s.returned.0.load(Ordering::Acquire);
@@ -177,6 +208,7 @@ impl<T: Send + 'static> Ahead<T> {
             worker: Some(worker),
             next: 0,
             filled: 0,
+            give_up,
         })
     }
 
@@ -184,7 +216,8 @@ impl<T: Send + 'static> Ahead<T> {
     /// slot of the step before (None at the first step), which then goes back to the worker:
     /// the loop holds a slot from this call to the next, so it may swap the slot's contents
     /// with its own and back. None, without calling `f`, when the worker has stopped before
-    /// filling it.
+    /// filling it, or has not filled it within the `give_up` time of [`Ahead::spawn`] (it
+    /// lacks a core: another process has it); the ring is then of no further use.
     pub fn next<R>(&mut self, f: impl FnOnce(Option<&mut T>, &mut T) -> R) -> Option<R> {
         let s = &*self.shared;
         let k = self.next;
@@ -193,9 +226,8 @@ impl<T: Send + 'static> Ahead<T> {
         }
         if self.filled <= k {
             *s.consumer.lock().ok()? = thread::current();
-            if !s.wait(&s.loop_sleeps.0, SPIN, || {
-                s.filled.0.load(Ordering::Acquire) > k
-            }) {
+            let ready = || s.filled.0.load(Ordering::Acquire) > k;
+            if !s.wait(&s.loop_sleeps.0, SPIN, self.give_up, ready) {
                 return None;
             }
             self.filled = s.filled.0.load(Ordering::Acquire);
@@ -249,7 +281,7 @@ mod tests {
 
     #[test]
     fn the_loop_gets_every_step_in_order() {
-        let mut a = Ahead::spawn(vec![0u64; 3], |k, s| *s = k * k).unwrap();
+        let mut a = Ahead::spawn(vec![0u64; 3], None, |k, s| *s = k * k).unwrap();
         for k in 0..10_000u64 {
             let held = k.checked_sub(1).map(|h| h * h);
             assert_eq!(a.next(|h, s| (h.map(|h| *h), *s)), Some((held, k * k)));
@@ -258,7 +290,7 @@ mod tests {
 
     #[test]
     fn a_slow_loop_and_a_slow_worker_lose_nothing() {
-        let mut a = Ahead::spawn(vec![0u64; 3], |k, s| {
+        let mut a = Ahead::spawn(vec![0u64; 3], None, |k, s| {
             if k % 7 == 0 {
                 thread::sleep(Duration::from_micros(500));
             }
@@ -274,8 +306,26 @@ mod tests {
     }
 
     #[test]
+    fn a_worker_far_behind_ends_the_ring() {
+        let mut a = Ahead::spawn(vec![0u64; 3], Some(MAX_LAG), |k, s| {
+            if k == 5 {
+                thread::sleep(MAX_LAG * 10);
+            }
+            *s = k;
+        })
+        .unwrap();
+        for k in 0..5 {
+            assert_eq!(a.next(|_, s| *s), Some(k));
+        }
+        let start = Instant::now();
+        assert_eq!(a.next(|_, s| *s), None);
+        let waited = start.elapsed();
+        assert!(waited >= MAX_LAG && waited < MAX_LAG * 5, "{waited:?}");
+    }
+
+    #[test]
     fn a_worker_that_panics_ends_the_ring() {
-        let mut a = Ahead::spawn(vec![0u64; 3], |k, s| {
+        let mut a = Ahead::spawn(vec![0u64; 3], None, |k, s| {
             assert!(k < 5, "the fill fails at step 5");
             *s = k;
         })

@@ -2,6 +2,7 @@
 //! track, train) that the FMUs wrap.
 
 mod ahead;
+pub use ahead::MAX_LAG;
 pub mod monolithic;
 pub mod partitioned;
 pub mod sample;

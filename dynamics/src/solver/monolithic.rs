@@ -219,6 +219,9 @@ pub struct Monolithic {
     geo: Geometry,
     /// The worker making the geometry of the steps to come ([`Monolithic::run_ahead`]).
     ahead: Option<super::ahead::Ahead<Geometry>>,
+    /// The worker stopped on its own (fell behind, or failed) since
+    /// [`Monolithic::take_ahead_lost`] was last called.
+    ahead_lost: bool,
     /// The worker's copy of the bridge and the train, kept for its next start.
     ahead_model: Option<(Arc<ModalBridge>, Arc<Train>)>,
     /// Per vehicle, its constant blocks (shared by the vehicles of one model).
@@ -311,6 +314,7 @@ impl Monolithic {
             geo: Geometry::new(nw, nb),
             ahead: None,
             ahead_model: None,
+            ahead_lost: false,
             cache,
             first_ws,
             wheel_forces,
@@ -437,7 +441,9 @@ impl Monolithic {
                 self.busy_vehicles();
                 return;
             }
-            // out of step with the worker (or the worker stopped): made here from now on
+            // out of step with the worker, or the worker stopped or fell behind by its
+            // give-up time: made here from now on
+            self.ahead_lost |= ok.is_none();
             self.ahead = None;
         }
         let model = Placement {
@@ -503,8 +509,11 @@ impl Monolithic {
     /// [`Monolithic::bridge`] or [`Monolithic::train`] after it are not seen by it).
     /// A step whose time is not the worker's (`t` set from outside) makes its own geometry,
     /// and the worker is stopped. The worker spins while it is ahead, so it takes a core of
-    /// its own: for runs alone on a machine with cores to spare.
-    pub fn run_ahead(&mut self) -> bool {
+    /// its own: for runs alone on a machine with cores to spare. With `give_up`, a step
+    /// waits at most that long for the worker; one that waits longer makes its own
+    /// geometry, the worker is stopped and [`Monolithic::take_ahead_lost`] says so
+    /// ([`super::MAX_LAG`] is the measured choice; None waits as long as the worker lives).
+    pub fn run_ahead(&mut self, give_up: Option<std::time::Duration>) -> bool {
         if !self.ahead_may_pay() {
             return false;
         }
@@ -539,7 +548,7 @@ impl Monolithic {
             g.rails(&model, &busy, t, false);
             g.shapes(&model, &busy);
         };
-        self.ahead = super::ahead::Ahead::spawn(slots, fill).ok();
+        self.ahead = super::ahead::Ahead::spawn(slots, give_up, fill).ok();
         self.ahead.is_some()
     }
 
@@ -560,6 +569,13 @@ impl Monolithic {
     /// The ideal track without hunting: the prescribed motion is zero everywhere.
     fn flat(&self) -> bool {
         self.track.is_flat() && !self.train.hunting.is_active()
+    }
+
+    /// Whether the worker of [`Monolithic::run_ahead`] stopped on its own since the last call:
+    /// it fell behind by its give-up time (it lacks a core) or failed, and each step makes
+    /// its own geometry since.
+    pub fn take_ahead_lost(&mut self) -> bool {
+        std::mem::take(&mut self.ahead_lost)
     }
 
     /// Whether the geometry is made ahead ([`Monolithic::run_ahead`]).
