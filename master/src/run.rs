@@ -226,7 +226,7 @@ fn may_use_second_core() -> bool {
 /// by the faster half of its [`AheadChoice::PARTS`] parts (so that another process taking
 /// the core for a while does not decide); it takes the
 /// way ahead only when that was [`AheadChoice::MARGIN`] faster, and keeps its choice for
-/// [`AheadChoice::KEEP_MIN`] steps, twice as long each time it makes the same choice again,
+/// [`AheadChoice::KEEP_MIN`] steps, four times as long each time it makes the same choice again,
 /// up to [`AheadChoice::KEEP_MAX`]: the first steps of a run are not those of a train on
 /// the bridge (the Tsing Ma case, timed at 2.3 s, ran 14 % faster ahead, and from 37 s on
 /// 5–10 % slower). A step that waits for the worker longer than
@@ -260,9 +260,9 @@ struct AheadChoice {
 }
 
 impl AheadChoice {
-    const SETTLE: usize = 32;
+    const SETTLE: usize = 16;
     const PART: usize = 32;
-    const PARTS: usize = 8;
+    const PARTS: usize = 6;
     const KEEP_MIN: usize = 512;
     const KEEP_MAX: usize = 32768;
     const MARGIN: f64 = 0.03;
@@ -279,7 +279,7 @@ impl AheadChoice {
             start: Instant::now(),
             first: 0.0,
             other: 0.0,
-            keep: Self::KEEP_MIN / 2,
+            keep: Self::KEEP_MIN / 4,
         }
     }
 
@@ -304,7 +304,7 @@ impl AheadChoice {
     /// One core, kept as a choice made again (the worker, if any, already stopped).
     fn keep_one_core(&mut self) {
         self.window = 4;
-        self.keep = (2 * self.keep).min(Self::KEEP_MAX);
+        self.keep = (4 * self.keep).min(Self::KEEP_MAX);
         self.left = self.keep;
     }
 
@@ -367,9 +367,9 @@ impl AheadChoice {
         if (ahead < (1.0 - Self::MARGIN) * plain && !self.busy()) != was {
             self.switch(sol);
         }
-        // the same choice again: kept twice as long; another: kept shortly
+        // the same choice again: kept four times as long; another: kept shortly
         self.keep = if sol.runs_ahead() == was {
-            (2 * self.keep).min(Self::KEEP_MAX)
+            (4 * self.keep).min(Self::KEEP_MAX)
         } else {
             Self::KEEP_MIN
         };

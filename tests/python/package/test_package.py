@@ -29,10 +29,11 @@ def cli(*args):
 
 
 def comparable(summary):
-    """A summary without what differs between two runs of the same case: the wall time and
-    the folders of the run."""
+    """A summary without what differs between two runs of the same case: the wall time, the
+    steps made ahead on a second core (chosen by timing) and the folders of the run."""
     s = json.loads(json.dumps(summary))
     s.pop("wall_time_s", None)
+    s.pop("steps_ahead", None)
     for key in ("bridge_fmu", "train_fmu"):
         (s.get("coupling") or {}).pop(key, None)
     return s
