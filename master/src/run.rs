@@ -441,21 +441,22 @@ pub fn run_monolithic<W: std::io::Write>(
 mod tests {
     use super::*;
 
+    fn solver(model: &Model) -> Monolithic {
+        Monolithic::new(
+            model.bridge.clone(),
+            model.train.clone(),
+            model.track.clone(),
+            model.dt,
+        )
+    }
+
     /// The choice times the sequential way, the way ahead twice and the sequential way again,
     /// each window after its settling steps, keeps one way for `KEEP_MIN` steps and times again
     /// from the way kept; every step's values are those of the run without it.
     #[test]
     fn the_choice_times_both_ways_in_turn_and_changes_no_value() {
         let model = build(&Scenario::default_case()).unwrap();
-        let new = || {
-            Monolithic::new(
-                model.bridge.clone(),
-                model.train.clone(),
-                model.track.clone(),
-                model.dt,
-            )
-        };
-        let (mut sol, mut plain) = (new(), new());
+        let (mut sol, mut plain) = (solver(&model), solver(&model));
         assert!(sol.ahead_may_pay());
         // a machine that runs nothing else, and a step that waits for the worker as long
         // as it takes (the tests run side by side)
@@ -484,13 +485,7 @@ mod tests {
     /// first window and never starts the worker.
     #[test]
     fn a_busy_machine_keeps_one_core() {
-        let model = build(&Scenario::default_case()).unwrap();
-        let mut sol = Monolithic::new(
-            model.bridge.clone(),
-            model.train.clone(),
-            model.track.clone(),
-            model.dt,
-        );
+        let mut sol = solver(&build(&Scenario::default_case()).unwrap());
         let mut c = AheadChoice::new(None, || Some(2));
         for _ in 0..3 * AheadChoice::KEEP_MIN {
             c.before_step(&mut sol);
