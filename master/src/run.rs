@@ -218,24 +218,25 @@ fn may_use_second_core() -> bool {
 /// ([`Monolithic::run_ahead`]), chosen by timing both ways again and again through the run:
 /// the hand-over of the shapes between the cores costs what the cores' placement makes it
 /// (on a virtual machine of two cores the Tsing Ma case ran 35 % faster ahead in one
-/// placement and 13 % slower in another, and the host moves the cores). A choice times
-/// four windows of [`AheadChoice::PARTS`] × [`AheadChoice::PART`] steps, the way of the moment, the other, the
-/// other again and the first again (so that a cost changing steadily along the run, as
-/// the train moves onto the bridge, weighs on both alike), each after
-/// [`AheadChoice::SETTLE`] steps untimed (the worker's start, the caches) and each counted
-/// by the faster half of its [`AheadChoice::PARTS`] parts (so that another process taking
-/// the core for a while does not decide); it takes the
-/// way ahead only when that was [`AheadChoice::MARGIN`] faster, and keeps its choice for
-/// [`AheadChoice::KEEP_MIN`] steps, four times as long each time it makes the same choice again,
-/// up to [`AheadChoice::KEEP_MAX`]: the first steps of a run are not those of a train on
-/// the bridge (the Tsing Ma case, timed at 2.3 s, ran 14 % faster ahead, and from 37 s on
-/// 5–10 % slower). A step that waits for the worker longer than
-/// [`tbi_dynamics::solver::MAX_LAG`] (another process has taken its core) ends the way
-/// ahead at once, and a choice whose windows on one core saw another process running at
-/// every look (one per part, [`procs_running`]) keeps one core: with one busy process on a
-/// machine of two cores, runs that timed the way ahead took 1.6–2.5 times as long. Either
-/// ends as a choice of one core made again. The values are the same either way, bit for
-/// bit.
+/// placement and 13 % slower in another, and the host moves the cores).
+///
+/// A choice times four windows of [`AheadChoice::PARTS`] × [`AheadChoice::PART`] steps:
+/// the way of the moment, the other, the other again and the first again (so that a cost
+/// changing steadily along the run, as the train moves onto the bridge, weighs on both
+/// alike). Each window follows [`AheadChoice::SETTLE`] steps untimed (the worker's start,
+/// the caches) and is counted by the faster half of its parts (so that another process
+/// taking the core for a while does not decide). The way ahead is taken only when it was
+/// [`AheadChoice::MARGIN`] faster, and the choice is kept for [`AheadChoice::KEEP_MIN`]
+/// steps, four times as long each time it is made again, up to [`AheadChoice::KEEP_MAX`]:
+/// the first steps of a run are not those of a train on the bridge (the Tsing Ma case,
+/// timed at 2.3 s, ran 14 % faster ahead, and from 37 s on 5–10 % slower).
+///
+/// A step that waits for the worker longer than [`tbi_dynamics::solver::MAX_LAG`] (another
+/// process has taken its core) ends the way ahead at once, and a choice whose windows on
+/// one core saw another process running at every look (one per part, [`procs_running`])
+/// keeps one core: with one busy process on a machine of two cores, runs that timed the
+/// way ahead took 1.6–2.5 times as long. Either ends as a choice of one core made again.
+/// The values are the same either way, bit for bit.
 struct AheadChoice {
     /// Steps left in this phase, the coming one included.
     left: usize,
@@ -418,8 +419,9 @@ pub fn run_monolithic<W: std::io::Write>(
                 c.before_step(&mut sol);
             }
         }
-        steps_ahead += usize::from(sol.runs_ahead());
         sol.step();
+        // still ahead after the step: this step's geometry was the worker's
+        steps_ahead += usize::from(sol.runs_ahead());
         if !sol.q.iter().all(|v| v.is_finite()) {
             return Err(format!(
                 "monolithic solver: non-finite bridge response at t = {} s",
