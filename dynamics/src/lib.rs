@@ -30,6 +30,7 @@ pub mod solver;
 pub mod sparse;
 pub mod track;
 pub mod train;
+pub mod trig;
 pub mod vehicle;
 
 pub use error::InputError;

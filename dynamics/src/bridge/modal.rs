@@ -223,7 +223,8 @@ impl ModalBridge {
                     &mut owned[..]
                 };
                 if kmax >= 1 {
-                    chebyshev_sines([theta.sin()], [2.0 * theta.cos()], s);
+                    let (sin, cos) = crate::trig::sin_cos(theta);
+                    chebyshev_sines([sin], [2.0 * cos], s);
                 }
                 for (i, o) in out.iter_mut().enumerate() {
                     let [sk] = s[half_waves[i] as usize];
@@ -360,16 +361,23 @@ impl ModalBridge {
         scratch.resize(scratch.len().max(kmax + 1), [0.0; SHAPE_LANES]);
         let s = &mut scratch[..=kmax];
         s[0] = [0.0; SHAPE_LANES];
-        let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+        // the angles of the lanes on the deck (0 for the others, whose sines stay zero)
+        let mut theta = [0.0; SHAPE_LANES];
         for (j, &x) in xs.iter().enumerate() {
             on[j] = self.on_deck(x);
-            if on[j] && kmax >= 1 {
-                let theta = std::f64::consts::PI * (x - self.x_start_m) / span_m;
-                sin1[j] = theta.sin();
-                c2[j] = 2.0 * theta.cos();
+            if on[j] {
+                theta[j] = std::f64::consts::PI * (x - self.x_start_m) / span_m;
             }
         }
         if kmax >= 1 {
+            let (sin, cos) = crate::trig::sin_cos4(theta);
+            let (mut sin1, mut c2) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
+            for j in 0..xs.len() {
+                if on[j] {
+                    sin1[j] = sin[j];
+                    c2[j] = 2.0 * cos[j];
+                }
+            }
             chebyshev_sines(sin1, c2, s);
         }
         s
