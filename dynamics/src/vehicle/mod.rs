@@ -215,4 +215,142 @@ impl WheelLoads {
             offload_wheel,
         }
     }
+
+    /// [`WheelLoads::from_force`] of four wheelsets (lane `j`: the force
+    /// `(F_y, M_x, F_z) = (q[j], m[j], p[j])`, static load `p0[j]`, contact distance `b[j]`),
+    /// the divisions four at a time with AVX2 where the processor has it: the same operations
+    /// in the same order per lane, bit for bit the values of `from_force`.
+    pub fn from_forces4(
+        q: [f64; 4],
+        m: [f64; 4],
+        p: [f64; 4],
+        p0: [f64; 4],
+        b: [f64; 4],
+    ) -> [WheelLoads; 4] {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked just above).
+            return unsafe { from_forces4_avx2(q, m, p, p0, b) };
+        }
+        std::array::from_fn(|j| Self::from_force(&Vector3::new(q[j], m[j], p[j]), p0[j], b[j]))
+    }
+}
+
+/// [`WheelLoads::from_forces4`] with the four lanes in one vector: each of `from_force`'s
+/// quotients as one division of four, its conditions as masks (a quotient whose condition
+/// fails is computed and replaced by zero, as `from_force` never computes it); the larger of
+/// the two wheels' offload taken lane by lane with `f64::max`.
+///
+/// # Safety
+/// AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn from_forces4_avx2(
+    q: [f64; 4],
+    m: [f64; 4],
+    p: [f64; 4],
+    p0: [f64; 4],
+    b: [f64; 4],
+) -> [WheelLoads; 4] {
+    use std::arch::x86_64::*;
+    // SAFETY: unaligned loads and stores of four f64 from and into arrays of four.
+    let ld = |a: &[f64; 4]| unsafe { _mm256_loadu_pd(a.as_ptr()) };
+    let st = |v: __m256d| {
+        let mut a = [0.0; 4];
+        // SAFETY: as above.
+        unsafe { _mm256_storeu_pd(a.as_mut_ptr(), v) };
+        a
+    };
+    let (vq, vm, vp, vp0, vb) = (ld(&q), ld(&m), ld(&p), ld(&p0), ld(&b));
+    let zero = _mm256_setzero_pd();
+    let half = _mm256_set1_pd(0.5);
+    let abs = |v: __m256d| _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+    // lanes where a condition holds keep the quotient, the others zero
+    let keep = |ok: __m256d, v: __m256d| _mm256_blendv_pd(zero, v, ok);
+    let gt = |a: __m256d, b: __m256d| _mm256_cmp_pd::<_CMP_GT_OQ>(a, b);
+    let mb = _mm256_div_pd(vm, vb);
+    let hp = _mm256_mul_pd(half, vp);
+    let p_right = _mm256_add_pd(hp, mb);
+    let p_left = _mm256_sub_pd(hp, mb);
+    let derail = keep(gt(abs(vp), zero), _mm256_div_pd(vq, vp));
+    let offload = keep(gt(vp0, zero), _mm256_div_pd(_mm256_sub_pd(vp0, vp), vp0));
+    let flange = _mm256_blendv_pd(p_left, p_right, _mm256_cmp_pd::<_CMP_GE_OQ>(vq, zero));
+    let derail_wheel = keep(gt(abs(flange), zero), _mm256_div_pd(abs(vq), flange));
+    let h = _mm256_mul_pd(half, vp0);
+    let left = _mm256_div_pd(_mm256_sub_pd(h, p_left), h);
+    let right = _mm256_div_pd(_mm256_sub_pd(h, p_right), h);
+    let (p_right, p_left, derail, offload, derail_wheel) = (
+        st(p_right),
+        st(p_left),
+        st(derail),
+        st(offload),
+        st(derail_wheel),
+    );
+    let (left, right, h) = (st(left), st(right), st(h));
+    std::array::from_fn(|j| WheelLoads {
+        q: q[j],
+        p: p[j],
+        p_left: p_left[j],
+        p_right: p_right[j],
+        derail: derail[j],
+        offload: offload[j],
+        derail_wheel: derail_wheel[j],
+        offload_wheel: if h[j] > 0.0 {
+            left[j].max(right[j])
+        } else {
+            0.0
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field of every lane equal to `from_force`'s bit for bit, over forces with
+    /// each sign, zero vertical load, zero lateral force of either sign, no static load,
+    /// a wheel lifted and one pressed past the other.
+    #[test]
+    fn four_wheelsets_load_as_one_each() {
+        let qs = [0.0, -0.0, 3.1e4, -2.7e4, 1e-300];
+        let ms = [0.0, 5.5e4, -8.0e4, 1.2e6];
+        let ps = [0.0, -0.0, 1.3e5, 7.0e4, -2.0e4, 2.2e5];
+        let p0s = [0.0, 1.4e5];
+        let mut lanes = Vec::new();
+        for &q in &qs {
+            for &m in &ms {
+                for &p in &ps {
+                    for &p0 in &p0s {
+                        lanes.push((q, m, p, p0, 1.5));
+                    }
+                }
+            }
+        }
+        let bits = |l: &WheelLoads| {
+            [
+                l.q,
+                l.p,
+                l.p_left,
+                l.p_right,
+                l.derail,
+                l.offload,
+                l.derail_wheel,
+                l.offload_wheel,
+            ]
+            .map(f64::to_bits)
+        };
+        for c in lanes.chunks_exact(4) {
+            let four = WheelLoads::from_forces4(
+                std::array::from_fn(|j| c[j].0),
+                std::array::from_fn(|j| c[j].1),
+                std::array::from_fn(|j| c[j].2),
+                std::array::from_fn(|j| c[j].3),
+                std::array::from_fn(|j| c[j].4),
+            );
+            for (l, &(q, m, p, p0, b)) in four.iter().zip(c) {
+                let one = WheelLoads::from_force(&Vector3::new(q, m, p), p0, b);
+                assert_eq!(bits(l), bits(&one), "q {q}, m {m}, p {p}, p0 {p0}");
+            }
+        }
+    }
 }
