@@ -206,30 +206,13 @@ impl<W: Write> Recorder<W> {
                 }
             }
         }
-        // Without a row only the forces that can vary need a look once every wheelset's loads
-        // are known: the others would find their memo.
-        let only = match &s.forces_varying {
-            Some(v) if !write_row && self.last_loads.len() == s.forces.len() => Some(v),
-            _ => None,
-        };
-        if let Some(varying) = only {
-            // four at a time (their memo left as it was: a force equal to its memo's bit
-            // for bit still has its loads)
-            let mut fours = varying.chunks_exact(4);
-            for c in &mut fours {
-                let (mut q, mut m, mut p, mut p0, mut b) =
-                    ([0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4]);
-                for (j, &w) in c.iter().enumerate() {
-                    let f = &s.forces[w];
-                    (q[j], m[j], p[j]) = (f.x, f.y, f.z);
-                    (p0[j], b[j]) = self.layout.wheelsets[w];
-                }
-                for l in &WheelLoads::from_forces4(q, m, p, p0, b) {
-                    self.safety.include(l);
-                }
-            }
-            for &w in fours.remainder() {
-                self.loads(w, &s.forces[w]);
+        // Without a row, once every wheelset's loads are known, only the forces that can vary
+        // need a look (the others would find their memo), four at a time (their memo left as
+        // it was: a force equal to its memo's bit for bit still has its loads).
+        if !write_row && self.last_loads.len() == s.forces.len() {
+            match &s.forces_varying {
+                Some(varying) => self.include_loads(varying.iter().copied(), &s.forces),
+                None => self.include_loads(0..s.forces.len(), &s.forces),
             }
         } else {
             self.last_loads.resize(s.forces.len(), None);
@@ -259,6 +242,32 @@ impl<W: Write> Recorder<W> {
         };
         self.row = row;
         written
+    }
+
+    /// The loads of `wheelsets` under their `forces` taken into the safety maxima, four at a
+    /// time ([`WheelLoads::from_forces4`]; the lanes of a last group of fewer repeat its last
+    /// wheelset, which changes no maximum).
+    fn include_loads(
+        &mut self,
+        mut wheelsets: impl Iterator<Item = usize>,
+        forces: &[Vector3<f64>],
+    ) {
+        while let Some(first) = wheelsets.next() {
+            let mut four = [first; 4];
+            for lane in &mut four[1..] {
+                *lane = wheelsets.next().unwrap_or(first);
+            }
+            let (mut q, mut m, mut p, mut p0, mut b) =
+                ([0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4]);
+            for (j, &w) in four.iter().enumerate() {
+                let f = &forces[w];
+                (q[j], m[j], p[j]) = (f.x, f.y, f.z);
+                (p0[j], b[j]) = self.layout.wheelsets[w];
+            }
+            for l in &WheelLoads::from_forces4(q, m, p, p0, b) {
+                self.safety.include(l);
+            }
+        }
     }
 
     /// The loads of wheelset `w` under force `f`, taken into the safety maxima, derived again
