@@ -106,20 +106,23 @@ impl VehicleState {
     ///
     /// Returns whether any of `v`, `v̇`, `v̈` changed (bit for bit).
     pub fn newmark_update(&mut self, nm: &Newmark, v1: &DVector<f64>) -> bool {
-        let mut changed = false;
-        for i in 0..v1.len() {
-            let (d, a) = nm.update(v1[i], self.v[i], self.vd[i], self.vdd[i]);
-            changed |= (v1[i].to_bits(), d.to_bits(), a.to_bits())
-                != (
-                    self.v[i].to_bits(),
-                    self.vd[i].to_bits(),
-                    self.vdd[i].to_bits(),
-                );
-            self.vd[i] = d;
-            self.vdd[i] = a;
+        assert_eq!(v1.len(), self.v.len(), "one new displacement per DOF");
+        // the bits that differ, of every value (one pass without a branch per DOF)
+        let mut differ = 0u64;
+        let (v, vd, vdd) = (
+            self.v.as_mut_slice(),
+            self.vd.as_mut_slice(),
+            self.vdd.as_mut_slice(),
+        );
+        let states = v.iter_mut().zip(vd.iter_mut()).zip(vdd.iter_mut());
+        for (&x1, ((x, xd), xdd)) in v1.as_slice().iter().zip(states) {
+            let (d, a) = nm.update(x1, *x, *xd, *xdd);
+            differ |= (x1.to_bits() ^ x.to_bits())
+                | (d.to_bits() ^ xd.to_bits())
+                | (a.to_bits() ^ xdd.to_bits());
+            (*x, *xd, *xdd) = (x1, d, a);
         }
-        self.v.copy_from(v1);
-        changed
+        differ != 0
     }
 }
 
