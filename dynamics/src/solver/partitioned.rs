@@ -231,12 +231,15 @@ impl BridgeSide {
         let mut c = self.cache.lock().expect("shape cache");
         c.fill(&self.bridge, &*self.track, inputs);
         if let Some((half_waves, amplitudes, kmax)) = self.bridge.sine_modes() {
-            let h = self.nodes.zeroed(kmax + 1);
-            let on_deck = inputs.iter().enumerate().filter_map(|(w, wi)| {
-                let (sines, _) = c.sines(w, wi.x);
-                sines.map(|s| (s, self.bridge.deck_force_of(wi.f)))
-            });
-            sine_forces(h, on_deck);
+            self.nodes.zeroed(kmax + 1);
+            let BasisScratch { force, on_deck, .. } = &mut self.nodes;
+            on_deck.clear();
+            for (w, wi) in inputs.iter().enumerate() {
+                if let Some(at) = c.sines_at(w, wi.x) {
+                    on_deck.push((at, self.bridge.deck_force_of(wi.f)));
+                }
+            }
+            sine_forces(force, &c.sines, on_deck);
             let h = &self.nodes.force;
             for ((o, &k), a) in fq.iter_mut().zip(half_waves).zip(amplitudes) {
                 let hk = h[k as usize];
@@ -871,35 +874,33 @@ impl TrainSide {
     }
 }
 
-/// `h[k] ← Σ_w sin(k θ_w) g_w` from zero, over the wheelsets `w` in turn (`(sines, g)`, the
-/// sines of its position for `k = 0 ..` and its force on the deck): the forces gathered per
-/// half-wave number. With AVX2 and at most twelve half-wave numbers the sums stay in registers, the
+/// `h[k] ← Σ_w sin(k θ_w) g_w` from zero, over the wheelsets `w` in turn (`(at, g)`: the
+/// sines of its position for `k = 0 ..` from `sines[at]` on, and its force on the deck): the
+/// forces gathered per half-wave number. With AVX2 and at most twelve half-wave numbers the sums stay in registers, the
 /// half-wave numbers side by side, instead of being loaded and stored for every wheelset;
 /// each `h[k][c]` takes the same products in the same order (bit for bit the same).
-fn sine_forces<'a>(h: &mut [[f64; 3]], wheelsets: impl Iterator<Item = (&'a [f64], [f64; 3])>) {
+fn sine_forces(h: &mut [[f64; 3]], sines: &[f64], wheelsets: &[(usize, [f64; 3])]) {
     #[cfg(target_arch = "x86_64")]
     if h.len() <= 12 && std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2 (checked just above)
         unsafe {
             match h.len().div_ceil(4) {
                 0 => {}
-                1 => sine_forces_avx2::<1>(h, wheelsets),
-                2 => sine_forces_avx2::<2>(h, wheelsets),
-                _ => sine_forces_avx2::<3>(h, wheelsets),
+                1 => sine_forces_avx2::<1>(h, sines, wheelsets),
+                2 => sine_forces_avx2::<2>(h, sines, wheelsets),
+                _ => sine_forces_avx2::<3>(h, sines, wheelsets),
             }
         }
         return;
     }
-    sine_forces_body(h, wheelsets)
+    sine_forces_body(h, sines, wheelsets)
 }
 
-fn sine_forces_body<'a>(
-    h: &mut [[f64; 3]],
-    wheelsets: impl Iterator<Item = (&'a [f64], [f64; 3])>,
-) {
+fn sine_forces_body(h: &mut [[f64; 3]], sines: &[f64], wheelsets: &[(usize, [f64; 3])]) {
     h.fill([0.0; 3]);
-    for (sines, g) in wheelsets {
-        for (hk, &sk) in h.iter_mut().zip(sines) {
+    let n = h.len();
+    for &(at, g) in wheelsets {
+        for (hk, &sk) in h.iter_mut().zip(&sines[at..at + n]) {
             for (hc, gc) in hk.iter_mut().zip(g) {
                 *hc += sk * gc;
             }
@@ -913,9 +914,10 @@ fn sine_forces_body<'a>(
 /// AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn sine_forces_avx2<'a, const V: usize>(
+unsafe fn sine_forces_avx2<const V: usize>(
     h: &mut [[f64; 3]],
-    wheelsets: impl Iterator<Item = (&'a [f64], [f64; 3])>,
+    sines: &[f64],
+    wheelsets: &[(usize, [f64; 3])],
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
@@ -926,8 +928,8 @@ unsafe fn sine_forces_avx2<'a, const V: usize>(
                                 // SAFETY: AVX2, as this function
     let mask = unsafe { crate::simd::first_lanes(last) };
     let mut acc = [[_mm256_setzero_pd(); V]; 3];
-    for (sines, g) in wheelsets {
-        let sines = &sines[..n];
+    for &(at, g) in wheelsets {
+        let sines = &sines[at..at + n];
         let p = sines.as_ptr();
         let gv = [
             _mm256_set1_pd(g[0]),
@@ -978,6 +980,9 @@ struct BasisScratch {
     motion: Vec<[[f64; 4]; 3]>,
     used: Vec<bool>,
     nodes: Vec<usize>,
+    /// Sine shapes: the wheelsets on the deck, as the start of their sines in the shape
+    /// cache and their force on the deck ([`sine_forces`]).
+    on_deck: Vec<(usize, [f64; 3])>,
 }
 
 impl BasisScratch {
@@ -1193,6 +1198,14 @@ impl ShapeCache {
         )
     }
 
+    /// For sine shapes, where the entry of wheelset slot `w` at `x` starts in `sines` (None
+    /// off the deck).
+    #[inline]
+    fn sines_at(&self, w: usize, x: f64) -> Option<usize> {
+        let slot = self.slot(w, x);
+        self.keys[w][slot].1.then(|| (2 * w + slot) * self.stride)
+    }
+
     /// For sine shapes, the entry of wheelset slot `w` at `x`: `sin(k θ)` (None off the
     /// deck) and the irregularity there.
     #[inline]
@@ -1222,10 +1235,15 @@ mod tests {
                 .map(|w| (0..n).map(|k| v(k + 17 * w, 0.3)).collect())
                 .collect();
             let g: Vec<[f64; 3]> = (0..7).map(|w| [v(w, 1.1), -v(w, 2.2), v(w, 3.3)]).collect();
-            let items = || sines.iter().map(|s| s.as_slice()).zip(g.iter().copied());
+            // the sines one after the other, a gap after each (as entries in the cache)
+            let storage: Vec<f64> = sines
+                .iter()
+                .flat_map(|s| s.iter().copied().chain([9.9]))
+                .collect();
+            let items: Vec<(usize, [f64; 3])> = (0..7).map(|w| (w * (n + 1), g[w])).collect();
             let (mut a, mut b) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-            sine_forces(&mut a, items());
-            sine_forces_body(&mut b, items());
+            sine_forces(&mut a, &storage, &items);
+            sine_forces_body(&mut b, &storage, &items);
             let bits =
                 |h: &[[f64; 3]]| -> Vec<u64> { h.iter().flatten().map(|x| x.to_bits()).collect() };
             assert_eq!(bits(&a), bits(&b), "{n} half-wave numbers");
