@@ -10,19 +10,21 @@
 //!   `P₁ + P₂ + P₃ + P₃ₜ`, the first three of 33 significant bits each, so that `n Pᵢ` is
 //!   exact for `n ≤ 2`; `θ − n P₁` is exact (the two are within a factor two of each
 //!   other), the next two subtractions are carried as exact sums (`two_sum`), and `r` is
-//!   left as a head and a tail `r = r_h + r_l`. The error of `r` is below 10⁻⁴⁷ absolute,
-//!   so even the angle nearest to `π/2` (`r` about 6·10⁻¹⁷) keeps every bit of `cos θ`.
+//!   left as a head and a tail `r = r_h + r_l`, off by about 10⁻³² of `|r|` (the rounding of
+//!   the tail) plus 10⁻⁴⁷ (what the four parts miss of `π/2`), so even the angle nearest to
+//!   `π/2` (`r` about 6·10⁻¹⁷) keeps every bit of `cos θ`.
 //! * **Kernels** on `|r| ≤ π/4`, `z = r_h²`:
 //!   `sin r = r_h + r_h z (S₁ + z (S₂ + …)) + (1 − z/2) r_l` (degree 13) and
-//!   `cos r = 1 − z/2 + z² (C₁ + z (C₂ + …)) − r_h r_l` (degree 14), each polynomial within
-//!   2⁻⁵⁸ of the function, the sums ordered so that the result is within one unit in the
-//!   last place.
+//!   `cos r = 1 − z/2 + z² (C₁ + z (C₂ + …)) − r_h r_l` (degree 14); fdlibm bounds each
+//!   polynomial's error by about 2⁻⁵⁸ and orders the sums so that the result is within one
+//!   unit in the last place.
 //! * **Quadrant.** `n = 0`: `(sin r, cos r)`; `n = 1`: `(cos r, −sin r)`; `n = 2`:
 //!   `(−sin r, −cos r)`.
 //!
 //! Angles outside `[−0.7, 3.9]` (where `n` would exceed 2) and non-finite ones go to the
 //! standard library, lane by lane. Tested against the standard library: within one unit in
-//! the last place over the range, and equal to it at the multiples of `π/4`.
+//! the last place over `[0, π]` (2²⁰ angles and the neighbours of the multiples of `π/4`),
+//! and equal to it at 0, `π/2` and `π`.
 //!
 //! The polynomial coefficients are those of fdlibm (`k_sin.c`, `k_cos.c`):
 //! Copyright (C) 1993 by Sun Microsystems, Inc. All rights reserved. Developed at SunPro, a
