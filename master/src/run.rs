@@ -387,7 +387,7 @@ fn procs_running() -> Option<usize> {
 }
 
 /// Integrate the model with the monolithic solver of eq. (14); the number of steps whose
-/// geometry was made ahead on a second core ([`AheadChoice`]).
+/// geometry was made ahead on a second core (`AheadChoice`).
 pub fn run_monolithic<W: std::io::Write>(
     model: &Model,
     rec: &mut Recorder<W>,

@@ -20,7 +20,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
-/// How long a loop that gives up waits at most for a slot ([`Ahead::spawn`]'s `give_up`):
+/// How long a loop that gives up waits at most for a slot (`Ahead::spawn`'s `give_up`):
 /// a worker that falls this far behind has no core of its own (another process runs on
 /// it), and the loop is better off alone. Without other load on the machine the loop of the
 /// bench case waited for its slot a few times in 22 378 steps, up to about a millisecond in

@@ -373,7 +373,7 @@ impl Monolithic {
     }
 
     /// How the reduced system is preconditioned: None by `D̂`, else by an earlier step's
-    /// inverse carried forward to this order ([`Lagged`]: 0 before the second assembly, 1
+    /// inverse carried forward to this order (`Lagged`: 0 before the second assembly, 1
     /// before the third, 2 after). For inspection and tests.
     pub fn preconditioner_order(&self) -> Option<usize> {
         if !self.work.costs.lagged() {
@@ -501,8 +501,8 @@ impl Monolithic {
         vehicles.extend(loose);
     }
 
-    /// Make each step's geometry ([`Geometry`]) on a worker thread up to seven steps ahead
-    /// ([`super::ahead`]), while this thread steps: the same values as made here, bit for
+    /// Make each step's geometry (`Geometry`) on a worker thread up to seven steps ahead
+    /// (`solver::ahead`), while this thread steps: the same values as made here, bit for
     /// bit, the step's other work alone on this thread. Returns whether the worker runs; it
     /// does only where it may pay ([`Monolithic::ahead_may_pay`]). The worker works from a
     /// copy of the bridge and the train as they were at the first call (changes to
