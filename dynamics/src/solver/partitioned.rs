@@ -1199,23 +1199,28 @@ impl ShapeCache {
     }
 
     /// For sine shapes, where the entry of wheelset slot `w` at `x` starts in `sines` (None
+    /// off the deck), and its slot.
+    #[inline]
+    fn sines_entry(&self, w: usize, x: f64) -> (Option<usize>, usize) {
+        let slot = self.slot(w, x);
+        let at = self.keys[w][slot].1.then(|| (2 * w + slot) * self.stride);
+        (at, slot)
+    }
+
+    /// For sine shapes, where the entry of wheelset slot `w` at `x` starts in `sines` (None
     /// off the deck).
     #[inline]
     fn sines_at(&self, w: usize, x: f64) -> Option<usize> {
-        let slot = self.slot(w, x);
-        self.keys[w][slot].1.then(|| (2 * w + slot) * self.stride)
+        self.sines_entry(w, x).0
     }
 
     /// For sine shapes, the entry of wheelset slot `w` at `x`: `sin(k θ)` (None off the
     /// deck) and the irregularity there.
     #[inline]
     fn sines(&self, w: usize, x: f64) -> (Option<&[f64]>, &RailIrregularity) {
-        let slot = self.slot(w, x);
-        let e = 2 * w + slot;
+        let (at, slot) = self.sines_entry(w, x);
         (
-            self.keys[w][slot]
-                .1
-                .then(|| &self.sines[e * self.stride..(e + 1) * self.stride]),
+            at.map(|at| &self.sines[at..at + self.stride]),
             &self.irregularity[w][slot],
         )
     }
