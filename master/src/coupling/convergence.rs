@@ -33,7 +33,7 @@
 pub struct Groups {
     of: Vec<usize>,
     /// The values of each group, in order.
-    members: Vec<Vec<usize>>,
+    members: Members,
     max: Vec<f64>,
     /// `rtol·max + atol` of each group (scratch of [`WeightedRms::evaluate_in`]).
     denominator: Vec<f64>,
@@ -84,13 +84,31 @@ pub(crate) fn number_by_key<K: PartialEq>(keys: impl Iterator<Item = K>) -> (Vec
     (numbers, seen.len())
 }
 
-/// The members of each of `n` groups, in order, from the group of each item.
-pub(crate) fn members_of(of: &[usize], n: usize) -> Vec<Vec<usize>> {
-    let mut members = vec![Vec::new(); n];
+/// The members of each group, and, where the groups repeat with a short period (the
+/// position, speed, forces and moment of one wheelset after another), the group of each
+/// place in a period.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Members {
+    lists: Vec<Vec<usize>>,
+    /// `Some(lanes)`: item `i` is in group `lanes[i mod p]`, `p = lanes.len() ≤ MAX_PERIOD`
+    /// dividing the number of items.
+    lanes: Option<Vec<usize>>,
+}
+
+/// The longest period [`max_abs_into`] takes item by item.
+const MAX_PERIOD: usize = 8;
+
+/// The members of each of `n` groups, in order, from the group of each item; the shortest
+/// period of the groups up to [`MAX_PERIOD`].
+pub(crate) fn members_of(of: &[usize], n: usize) -> Members {
+    let mut lists = vec![Vec::new(); n];
     for (i, &g) in of.iter().enumerate() {
-        members[g].push(i);
+        lists[g].push(i);
     }
-    members
+    let lanes = (1..=MAX_PERIOD.min(of.len()))
+        .find(|&p| of.len().is_multiple_of(p) && (p..of.len()).all(|i| of[i] == of[i - p]))
+        .map(|p| of[..p].to_vec());
+    Members { lists, lanes }
 }
 
 /// `out[g] ← max(out[g], |vᵢ|)` over the members `i` of each group `g` (`out` holds no NaN).
@@ -100,9 +118,24 @@ pub(crate) fn members_of(of: &[usize], n: usize) -> Vec<Vec<usize>> {
 /// in any order, so the result equals the element-by-element update bit for bit. The larger
 /// of two magnitudes is taken by one comparison, which is `f64::max` where neither is NaN
 /// and, as `f64::max`, passes over a NaN `|vᵢ|`.
-pub(crate) fn max_abs_into(members: &[Vec<usize>], values: &[f64], out: &mut [f64]) {
-    let larger = |m: f64, a: f64| if a > m { a } else { m };
-    for (list, o) in members.iter().zip(out.iter_mut()) {
+///
+/// Groups that repeat with a period ([`Members`]) are read in order, one running maximum per
+/// place of the period (a maximum is exact in any order, so bit for bit the same again).
+pub(crate) fn max_abs_into(members: &Members, values: &[f64], out: &mut [f64]) {
+    if let Some(lanes) = &members.lanes {
+        match lanes.len() {
+            1 => return max_abs_periodic::<1>(lanes, values, out),
+            2 => return max_abs_periodic::<2>(lanes, values, out),
+            3 => return max_abs_periodic::<3>(lanes, values, out),
+            4 => return max_abs_periodic::<4>(lanes, values, out),
+            5 => return max_abs_periodic::<5>(lanes, values, out),
+            6 => return max_abs_periodic::<6>(lanes, values, out),
+            7 => return max_abs_periodic::<7>(lanes, values, out),
+            8 => return max_abs_periodic::<8>(lanes, values, out),
+            _ => {}
+        }
+    }
+    for (list, o) in members.lists.iter().zip(out.iter_mut()) {
         let mut m = [*o; 4];
         let chunks = list.chunks_exact(4);
         let rest = chunks.remainder();
@@ -115,6 +148,30 @@ pub(crate) fn max_abs_into(members: &[Vec<usize>], values: &[f64], out: &mut [f6
             *mk = larger(*mk, values[i].abs());
         }
         *o = larger(larger(m[0], m[1]), larger(m[2], m[3]));
+    }
+}
+
+/// The larger of two magnitudes by one comparison (`f64::max` where neither is NaN; passes
+/// over a NaN `a`).
+#[inline(always)]
+fn larger(m: f64, a: f64) -> f64 {
+    if a > m {
+        a
+    } else {
+        m
+    }
+}
+
+/// [`max_abs_into`] of groups with period `P` (`lanes`: the group of each place).
+fn max_abs_periodic<const P: usize>(lanes: &[usize], values: &[f64], out: &mut [f64]) {
+    let mut m: [f64; P] = std::array::from_fn(|k| out[lanes[k]]);
+    for chunk in values.chunks_exact(P) {
+        for (mk, &v) in m.iter_mut().zip(chunk) {
+            *mk = larger(*mk, v.abs());
+        }
+    }
+    for (&g, mk) in lanes.iter().zip(m) {
+        out[g] = larger(out[g], mk);
     }
 }
 
@@ -256,7 +313,55 @@ impl WeightedRms {
 
 #[cfg(test)]
 mod tests {
-    use super::{max_abs_into, Groups, WeightedRms};
+    use super::{max_abs_into, members_of, Groups, Members, WeightedRms};
+
+    /// Groups that repeat with a period are found (the shortest, up to eight places, dividing
+    /// the number of values), and their maxima taken place by place equal those by member
+    /// lists bit for bit: NaN passed over, −0.0 and the maxima already held included.
+    #[test]
+    fn periodic_group_maxima_equal_those_by_member_lists() {
+        // (pattern, its shortest period if it is at most eight places)
+        let patterns: [(&[usize], Option<usize>); 6] = [
+            (&[0], Some(1)),
+            (&[0, 1, 2, 3, 2], Some(5)),
+            (&[0, 1, 0, 1], Some(2)),
+            (&[0, 1, 2, 0, 1, 2, 3, 4], Some(8)),
+            (&[0, 1, 2, 3, 4, 5, 6, 7, 8], None),
+            (&[0, 1, 2, 0, 1, 2, 0, 1, 2, 3], None),
+        ];
+        for (pattern, period) in patterns {
+            for repeats in 0..7 {
+                let of: Vec<usize> = (0..pattern.len() * repeats)
+                    .map(|i| pattern[i % pattern.len()])
+                    .collect();
+                let n_groups = pattern.iter().max().map_or(0, |g| g + 1);
+                let members = members_of(&of, n_groups);
+                assert_eq!(
+                    members.lanes.as_ref().map(Vec::len),
+                    period.filter(|_| repeats > 0),
+                    "{pattern:?} × {repeats}"
+                );
+                let by_lists = Members {
+                    lists: members.lists.clone(),
+                    lanes: None,
+                };
+                let mut v: Vec<f64> = (0..of.len())
+                    .map(|i| ((i as f64 + 0.2) * 2.1).sin() * 10f64.powi(i as i32 % 5))
+                    .collect();
+                if v.len() > 3 {
+                    v[1] = f64::NAN;
+                    v[3] = -0.0;
+                }
+                for start in [0.0, -0.0, 3.5] {
+                    let (mut a, mut b) = (vec![start; n_groups], vec![start; n_groups]);
+                    max_abs_into(&members, &v, &mut a);
+                    max_abs_into(&by_lists, &v, &mut b);
+                    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&a), bits(&b), "{pattern:?} × {repeats}, from {start}");
+                }
+            }
+        }
+    }
 
     /// Interleaved groups (as position, speed, force, moment of each wheelset), every length
     /// through the tail cases of the four running maxima: the maxima by member lists equal
@@ -310,10 +415,13 @@ mod tests {
             let mut v = x.clone();
             v[n / 2] = f64::NAN;
             v[0] = -0.0;
-            let members = vec![(0..n).collect::<Vec<_>>(), (0..n).step_by(3).collect()];
+            let members = Members {
+                lists: vec![(0..n).collect::<Vec<_>>(), (0..n).step_by(3).collect()],
+                lanes: None,
+            };
             let mut out = [0.0, 2.5];
             max_abs_into(&members, &v, &mut out);
-            for (list, (o, start)) in members.iter().zip(out.iter().zip([0.0, 2.5])) {
+            for (list, (o, start)) in members.lists.iter().zip(out.iter().zip([0.0, 2.5])) {
                 let expected = list.iter().fold(start, |a: f64, &i| a.max(v[i].abs()));
                 assert_eq!(o.to_bits(), expected.to_bits(), "n = {n}");
             }

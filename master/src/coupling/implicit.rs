@@ -90,7 +90,7 @@
 //! iteration ends as not converged with the state of the last sweep.
 
 use super::acceleration::Acceleration;
-use super::convergence::{max_abs_into, members_of, number_by_key, Groups, WeightedRms};
+use super::convergence::{max_abs_into, members_of, number_by_key, Groups, Members, WeightedRms};
 use super::exchange::{same_time, Exchange};
 use super::jacobian::StepJacobian;
 use super::scheme::{do_step, restore_all, save_all, CouplingScheme, StepReport};
@@ -140,7 +140,7 @@ pub struct Implicit {
     /// Scaling block of each unknown, the unknowns of each block, and the largest |x̃| seen
     /// in each block during the run.
     block_of: Vec<usize>,
-    block_members: Vec<Vec<usize>>,
+    block_members: Members,
     block_max: Vec<f64>,
     /// Convergence groups of the unknowns ([`Exchange::groups`]).
     groups: Groups,
@@ -169,7 +169,7 @@ impl Implicit {
             spare: Vec::new(),
             initial: None,
             block_of: Vec::new(),
-            block_members: Vec::new(),
+            block_members: Members::default(),
             block_max: Vec::new(),
             groups: Groups::default(),
             x: Vec::new(),
