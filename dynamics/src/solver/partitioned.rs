@@ -368,17 +368,15 @@ impl BridgeSide {
             }
             let BasisScratch {
                 motion: b,
-                on_deck,
+                starts,
                 deck,
                 ..
             } = &mut self.nodes;
-            on_deck.clear();
-            for (w, wi) in inputs.iter().enumerate() {
-                if let Some(at) = c.sines_at(slot_of(w), wi.x) {
-                    on_deck.push((at, [0.0; 3]));
-                }
-            }
-            sine_motions(deck, b, &c.sines, on_deck);
+            starts.clear();
+            starts.extend(
+                (inputs.iter().enumerate()).filter_map(|(w, wi)| c.sines_at(slot_of(w), wi.x)),
+            );
+            sine_motions(deck, b, &c.sines, starts);
             let mut deck = deck.iter();
             for (w, wi) in inputs.iter().enumerate() {
                 let (sines, irregularity) = c.sines(slot_of(w), wi.x);
@@ -971,7 +969,7 @@ unsafe fn sine_forces_avx2<const V: usize>(
 }
 
 /// `out[i] ← Σₖ sin(k θᵢ) b[k]` from zero, `k = 0, 1, …` in turn, for the wheelsets `i` on
-/// the deck (`wheelsets[i].0`: where their sines start in `sines`): the deck motion under
+/// the deck (`starts[i]`: where their sines start in `sines`): the deck motion under
 /// each, `b[k]` the deck motion of half-wave number `k` (deck components × `(u, u̇, ü, 0)`).
 /// With AVX2 a component's four values are one vector; each value takes the same products
 /// in the same order as the scalar loop (bit for bit the same).
@@ -979,26 +977,26 @@ fn sine_motions(
     out: &mut Vec<[[f64; 4]; 3]>,
     b: &[[[f64; 4]; 3]],
     sines: &[f64],
-    wheelsets: &[(usize, [f64; 3])],
+    starts: &[usize],
 ) {
     out.clear();
-    out.resize(wheelsets.len(), [[0.0; 4]; 3]);
+    out.resize(starts.len(), [[0.0; 4]; 3]);
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2 (checked just above)
-        unsafe { sine_motions_avx2(out, b, sines, wheelsets) };
+        unsafe { sine_motions_avx2(out, b, sines, starts) };
         return;
     }
-    sine_motions_body(out, b, sines, wheelsets)
+    sine_motions_body(out, b, sines, starts)
 }
 
 fn sine_motions_body(
     out: &mut [[[f64; 4]; 3]],
     b: &[[[f64; 4]; 3]],
     sines: &[f64],
-    wheelsets: &[(usize, [f64; 3])],
+    starts: &[usize],
 ) {
-    for (acc, &(at, _)) in out.iter_mut().zip(wheelsets) {
+    for (acc, &at) in out.iter_mut().zip(starts) {
         for (sk, bk) in sines[at..at + b.len()].iter().zip(b) {
             for (ac, bc) in acc.iter_mut().zip(bk) {
                 for (v, bv) in ac.iter_mut().zip(bc) {
@@ -1019,13 +1017,13 @@ unsafe fn sine_motions_avx2(
     out: &mut [[[f64; 4]; 3]],
     b: &[[[f64; 4]; 3]],
     sines: &[f64],
-    wheelsets: &[(usize, [f64; 3])],
+    starts: &[usize],
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_setzero_pd,
         _mm256_storeu_pd,
     };
-    for (o, &(at, _)) in out.iter_mut().zip(wheelsets) {
+    for (o, &at) in out.iter_mut().zip(starts) {
         let mut acc = [_mm256_setzero_pd(); 3];
         for (&sk, bk) in sines[at..at + b.len()].iter().zip(b) {
             let s = _mm256_set1_pd(sk);
@@ -1060,9 +1058,11 @@ struct BasisScratch {
     used: Vec<bool>,
     nodes: Vec<usize>,
     /// Sine shapes: the wheelsets on the deck, as the start of their sines in the shape
-    /// cache and their force on the deck ([`sine_forces`]; zero for [`sine_motions`]).
+    /// cache and their force on the deck ([`sine_forces`]).
     on_deck: Vec<(usize, [f64; 3])>,
-    /// Sine shapes: the deck motion under each wheelset of `on_deck` ([`sine_motions`]).
+    /// Sine shapes: where the sines of each wheelset on the deck start in the shape cache,
+    /// and the deck motion under it ([`sine_motions`]).
+    starts: Vec<usize>,
     deck: Vec<[[f64; 4]; 3]>,
 }
 
@@ -1350,11 +1350,11 @@ mod tests {
                     [m(0), m(1), m(2)]
                 })
                 .collect();
-            let items: Vec<(usize, [f64; 3])> = (0..7).map(|w| (w * (n + 1), [0.0; 3])).collect();
+            let starts: Vec<usize> = (0..7).map(|w| w * (n + 1)).collect();
             let mut a = Vec::new();
-            sine_motions(&mut a, &b, &storage, &items);
+            sine_motions(&mut a, &b, &storage, &starts);
             let mut s = vec![[[0.0; 4]; 3]; 7];
-            sine_motions_body(&mut s, &b, &storage, &items);
+            sine_motions_body(&mut s, &b, &storage, &starts);
             let bits = |h: &[[[f64; 4]; 3]]| -> Vec<u64> {
                 h.iter().flatten().flatten().map(|x| x.to_bits()).collect()
             };
