@@ -921,6 +921,12 @@ impl Monolithic {
         &self.geo.psi_t[3 * nb * f0..3 * nb * (f0 + nwi)]
     }
 
+    /// Whether vehicle `i` adds `Uᵀ S U` to the reduced matrix: it has DOFs (a rail-space
+    /// `S`) and a wheelset on the deck (`live`, [`Monolithic::live_vehicles`]).
+    fn couples(&self, i: usize, live: &[bool]) -> bool {
+        live[i] && !self.cache[i].s_dense.is_empty()
+    }
+
     /// `y = A x` with `A = D̂ + Σ Uᵀ S U` (rail-space form, never assembled): per vehicle
     /// `U x` as one sum over the modes of its mode-major `U` ([`Monolithic::block`]; each
     /// rail value summed over the modes in order, as one wheelset's `Ψ q` sums them),
@@ -946,10 +952,7 @@ impl Monolithic {
         }
         // two vehicles at a time: their U x and S (U x) side by side, then Uᵀ of each in
         // order (the sums into y as one vehicle after the other)
-        let mut coupled = vehicles
-            .iter()
-            .copied()
-            .filter(|&i| live[i] && !self.cache[i].s_dense.is_empty());
+        let mut coupled = vehicles.iter().copied().filter(|&i| self.couples(i, live));
         let rows = |i: usize| 3 * self.train.vehicles[i].model.wheelsets.len();
         while let Some(i) = coupled.next() {
             let ri = rows(i);
@@ -983,11 +986,11 @@ impl Monolithic {
     /// `q − M⁻¹ b` of the last solves vary smoothly, as `q` and the matrices do, so a cubic
     /// through the last four predicts the next one. From such a start (a non-zero
     /// correction added) at least one iteration is made: the start may already pass the
-    /// test below, within 10⁻¹⁴ of its
-    /// terms, and the step's accelerations, `4/h²` times its displacements, would keep that
-    /// error (on the default case the deck's vertical acceleration then moved by 2.8·10⁻⁷ of
-    /// its largest value); one iteration takes it far below, as the iterations from `M⁻¹ b`
-    /// do (2.9·10⁻⁸ from the co-simulation there, against 7.1·10⁻⁸ before).
+    /// test below, within 10⁻¹⁴ of its terms, and the step's accelerations, `4/h²` times its
+    /// displacements, would keep that error (on the default case the deck's vertical
+    /// acceleration then moved by 2.8·10⁻⁷ of its largest value); one iteration takes it far
+    /// below, as the iterations from `M⁻¹ b` do (2.9·10⁻⁸ from the co-simulation there,
+    /// against 7.1·10⁻⁸ before).
     ///
     /// Where no vehicle on the deck is coupled to the modes (moving forces, or no vehicle
     /// there), `A = D̂` and `q = D̂⁻¹ b` is taken at once: no iteration, nothing assembled.
@@ -1023,8 +1026,7 @@ impl Monolithic {
         }
         // No vehicle on the deck is coupled to the modes (moving forces, or none there):
         // `A = D̂`, solved exactly, with no iteration and nothing to assemble.
-        let coupled = |i: &usize| w.live[*i] && !self.cache[*i].s_dense.is_empty();
-        if !w.busy_vehicles.iter().any(coupled) {
+        if !w.busy_vehicles.iter().any(|&i| self.couples(i, &w.live)) {
             for n in 0..nb {
                 w.cg_x[n] = w.bq[n] / w.dhat[n];
             }
@@ -1193,10 +1195,10 @@ impl Monolithic {
         }
         let mut su = Vec::new();
         for &i in vehicles {
-            let s = &self.cache[i].s_dense;
-            if s.is_empty() || !live[i] {
+            if !self.couples(i, live) {
                 continue;
             }
+            let s = &self.cache[i].s_dense;
             let u = self.block(i);
             let m = u.len() / nb;
             su.resize(m, 0.0);
@@ -1372,8 +1374,8 @@ impl Corrections {
     fn extrapolate_into(&self, x: &mut DVector<f64>) -> bool {
         let e = |j: usize| self.ring[(self.newest + CORRECTIONS - j) % CORRECTIONS].as_slice();
         let x = x.as_mut_slice();
-        // whether any correction is non-zero (a bridge without coupled vehicles, `A = D̂`,
-        // has none)
+        // whether any correction is non-zero (the solve at an assembly, exact from `M⁻¹ b`,
+        // leaves a zero one)
         let mut moved = false;
         let mut add = |x: &mut f64, d: f64| {
             moved |= d != 0.0;
