@@ -222,6 +222,150 @@ pub fn project_rows(y: &mut [f64], rows: &[f64], f: [f64; 3]) {
     project_rows_body(y, rows, f)
 }
 
+/// [`project_rows`] of many points, in order: `y[n] ← y[n] + ((r₀[n] f₀ + r₁[n] f₁) + r₂[n] f₂)`
+/// for each point's three rows (`rows`: the points' `3 y.len()` values one after the other)
+/// and its `f` (`fs`, one per point), bit for bit as one [`project_rows`] per point. With
+/// AVX2 each group of four `yᵢ` stays in a register through all the points (up to four
+/// groups at once) instead of being loaded and stored at every point.
+#[inline]
+pub fn project_rows_many(y: &mut [f64], rows: &[f64], fs: &[[f64; 3]]) {
+    let n = y.len();
+    assert!(
+        rows.len() >= 3 * n * fs.len(),
+        "{} points of 3 × {n} values",
+        fs.len()
+    );
+    if n == 0 {
+        return;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        let (yp, rp) = (y.as_mut_ptr(), rows.as_ptr());
+        let mut i = 0;
+        // SAFETY (each call): the processor has AVX2 (checked above); rows i..i + 4G (+ the
+        // masked tail) ≤ n of y and of each point's three rows (3 n values a point, the
+        // points inside `rows`, checked above)
+        while n - i >= 16 {
+            unsafe { rows_groups::<4, false>(yp.add(i), rp.add(i), n, fs, 0) };
+            i += 16;
+        }
+        let tail = n - i;
+        unsafe {
+            let (yp, rp) = (yp.add(i), rp.add(i));
+            match (tail / 4, tail % 4) {
+                (0, 0) => {}
+                (0, r) => rows_groups::<0, true>(yp, rp, n, fs, r),
+                (1, 0) => rows_groups::<1, false>(yp, rp, n, fs, 0),
+                (1, r) => rows_groups::<1, true>(yp, rp, n, fs, r),
+                (2, 0) => rows_groups::<2, false>(yp, rp, n, fs, 0),
+                (2, r) => rows_groups::<2, true>(yp, rp, n, fs, r),
+                (3, 0) => rows_groups::<3, false>(yp, rp, n, fs, 0),
+                (_, r) => rows_groups::<3, true>(yp, rp, n, fs, r),
+            }
+        }
+        return;
+    }
+    for (point, &f) in rows.chunks_exact(3 * n).zip(fs) {
+        project_rows_body(y, point, f);
+    }
+}
+
+/// [`project_rows_many`]'s sums: `G` groups of four `yᵢ` from `yp` (and with `TAIL` the `r`
+/// (1–3) after them as masked lanes), each through all the points in order; point `j`'s
+/// row `c` of these values from `rp + (3 j + c) n`.
+///
+/// # Safety
+/// AVX2; values `0..4G` (`+ r` with `TAIL`) from `yp` writable and not aliased, and from
+/// `rp + (3 j + c) n` readable for every point `j < fs.len()` and `c < 3`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn rows_groups<const G: usize, const TAIL: bool>(
+    yp: *mut f64,
+    rp: *const f64,
+    n: usize,
+    fs: &[[f64; 3]],
+    r: usize,
+) {
+    use std::arch::x86_64::{
+        _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_setzero_pd, _mm256_storeu_pd,
+    };
+    let mask = first_lanes(r);
+    // SAFETY: the values the caller vouches for
+    unsafe {
+        let mut acc = [_mm256_setzero_pd(); G];
+        for (g, acc) in acc.iter_mut().enumerate() {
+            *acc = _mm256_loadu_pd(yp.add(4 * g));
+        }
+        // the tail's y through memory as scalars (see columns_groups)
+        let mut tail = [0.0; 4];
+        if TAIL {
+            let yt = yp.add(4 * G);
+            tail[0] = *yt;
+            if r > 1 {
+                tail[1] = *yt.add(1);
+            }
+            if r > 2 {
+                tail[2] = *yt.add(2);
+            }
+        }
+        let mut last = _mm256_loadu_pd(tail.as_ptr());
+        for (j, f) in fs.iter().enumerate() {
+            let (f0, f1, f2) = (
+                _mm256_set1_pd(f[0]),
+                _mm256_set1_pd(f[1]),
+                _mm256_set1_pd(f[2]),
+            );
+            let (r0, r1, r2) = (
+                rp.add(3 * j * n),
+                rp.add((3 * j + 1) * n),
+                rp.add((3 * j + 2) * n),
+            );
+            let term = |a: std::arch::x86_64::__m256d,
+                        b: std::arch::x86_64::__m256d,
+                        c: std::arch::x86_64::__m256d| {
+                _mm256_add_pd(
+                    _mm256_add_pd(_mm256_mul_pd(a, f0), _mm256_mul_pd(b, f1)),
+                    _mm256_mul_pd(c, f2),
+                )
+            };
+            for (g, acc) in acc.iter_mut().enumerate() {
+                let o = 4 * g;
+                let t = term(
+                    _mm256_loadu_pd(r0.add(o)),
+                    _mm256_loadu_pd(r1.add(o)),
+                    _mm256_loadu_pd(r2.add(o)),
+                );
+                *acc = _mm256_add_pd(*acc, t);
+            }
+            if TAIL {
+                let o = 4 * G;
+                let t = term(
+                    _mm256_maskload_pd(r0.add(o), mask),
+                    _mm256_maskload_pd(r1.add(o), mask),
+                    _mm256_maskload_pd(r2.add(o), mask),
+                );
+                last = _mm256_add_pd(last, t);
+            }
+        }
+        for (g, acc) in acc.iter().enumerate() {
+            _mm256_storeu_pd(yp.add(4 * g), *acc);
+        }
+        if TAIL {
+            _mm256_storeu_pd(tail.as_mut_ptr(), last);
+            let yt = yp.add(4 * G);
+            *yt = tail[0];
+            if r > 1 {
+                *yt.add(1) = tail[1];
+            }
+            if r > 2 {
+                *yt.add(2) = tail[2];
+            }
+        }
+    }
+}
+
 #[inline(always)]
 fn project_rows_body(y: &mut [f64], rows: &[f64], f: [f64; 3]) {
     let n = y.len();
@@ -554,6 +698,27 @@ mod tests {
                     .chain(e.iter().zip(&i))
                     .all(|(e, h)| e.to_bits() == h.to_bits()),
                 "project_rows, n = {n}"
+            );
+            // many points at once: as one project_rows per point, in order
+            let points = 7;
+            let many: Vec<f64> = (0..points)
+                .flat_map(|j| values(3 * n, 3.1 + j as f64))
+                .collect();
+            let fs: Vec<[f64; 3]> = (0..points)
+                .map(|j| [1.5e4 - 3e3 * j as f64, -2.2e3 * j as f64, 7.7e2 + j as f64])
+                .collect();
+            let (mut one, mut all) = (values(n, 0.2), values(n, 0.2));
+            if n > 0 {
+                for (point, &f) in many.chunks_exact(3 * n).zip(&fs) {
+                    project_rows(&mut one, point, f);
+                }
+            }
+            project_rows_many(&mut all, &many, &fs);
+            assert!(
+                one.iter()
+                    .zip(&all)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()),
+                "project_rows_many, n = {n}"
             );
             let mut acc_a = [[0.1, 0.2, 0.3, 0.0], [1.0, -2.0, 3.0, 0.0], [0.0; 4]];
             let mut acc_b = acc_a;

@@ -65,8 +65,9 @@ pub struct DeckBuffeting {
     admitted: Option<WindField>,
     /// The deck points, m.
     x_m: Vec<f64>,
-    /// Per point: Δx_j times the shapes (lateral, vertical, torsion) of every mode, point-major.
-    weighted_shapes: Vec<[f64; 3]>,
+    /// Per point: Δx_j times the shapes of every mode, as three rows of the modes' values
+    /// (lateral, vertical, torsion; `weighted_shapes[(3 j + c) N + n]`), point after point.
+    weighted_shapes: Vec<f64>,
     n_modes: usize,
     /// ½ρU²B, N/m.
     q_b: f64,
@@ -90,14 +91,14 @@ impl DeckBuffeting {
         let p = x.len();
         let (a, b) = (bridge.x_start_m, bridge.x_end_m);
         let n = bridge.n_modes();
-        let mut weighted_shapes = vec![[0.0; 3]; p * n];
+        let mut weighted_shapes = vec![0.0; 3 * p * n];
         let mut phi = vec![[0.0; 3]; n];
         for (j, &xj) in x.iter().enumerate() {
             let w = if j == 0 || j == p - 1 { 0.5 * dx } else { dx };
             bridge.deck_shapes(xj.clamp(a, b), &mut phi);
             for m in 0..n {
                 for c in 0..3 {
-                    weighted_shapes[j * n + m][c] = w * phi[m][c];
+                    weighted_shapes[(3 * j + c) * n + m] = w * phi[m][c];
                 }
             }
         }
@@ -154,18 +155,26 @@ impl DeckBuffeting {
         let [cd, cl, cm] = s.coefficients;
         let [dcd, dcl, dcm] = s.slopes;
         let n = self.n_modes;
-        for j in 0..self.x_m.len() {
-            let [u, w] = uw(j);
-            let (ru, rw) = (u / u_mean, w / u_mean);
-            let drag = self.q_b * (2.0 * cd * ru + dcd * rw);
-            let lift = self.q_b * (2.0 * cl * ru + (dcl + cd) * rw);
-            let moment = self.q_b * s.width_m * (2.0 * cm * ru + dcm * rw);
-            for (o, p) in out
-                .iter_mut()
-                .zip(&self.weighted_shapes[j * n..(j + 1) * n])
-            {
-                *o += p[0] * drag - p[1] * lift + p[2] * moment;
+        // Per point its (D, −L, M), 64 points at a time, then φ_h Δx D − φ_v Δx L + φ_θ Δx M
+        // of every mode summed over them in order, each mode's sum in a register through
+        // the points (`project_rows_many`; the lift's product subtracted as the product
+        // with −L added, the same rounding): 200 points under 20 modes took 46·10³
+        // instructions a step one point after the other, a sixth of the Tsing Ma case's
+        // run in a turbulent wind.
+        let mut loads = [[0.0; 3]; 64];
+        let points = self.x_m.len();
+        for start in (0..points).step_by(loads.len()) {
+            let m = loads.len().min(points - start);
+            for (k, l) in loads[..m].iter_mut().enumerate() {
+                let [u, w] = uw(start + k);
+                let (ru, rw) = (u / u_mean, w / u_mean);
+                let drag = self.q_b * (2.0 * cd * ru + dcd * rw);
+                let lift = self.q_b * (2.0 * cl * ru + (dcl + cd) * rw);
+                let moment = self.q_b * s.width_m * (2.0 * cm * ru + dcm * rw);
+                *l = [drag, -lift, moment];
             }
+            let rows = &self.weighted_shapes[3 * n * start..3 * n * (start + m)];
+            crate::simd::project_rows_many(&mut out[..n], rows, &loads[..m]);
         }
     }
 }
