@@ -19,7 +19,11 @@
 //! spaced over the deck with trapezoidal weights `Δx_j`; the generalised force of mode n is
 //! `Fₙ(t) = Σ_j Δx_j (φ_h D_b − φ_v L_b + φ_θ M_b)(x_j, t)` (z down: lift enters with −).
 //! The field is generated from its seed when a solver starts ([`DeckBuffeting::new`]), so the
-//! monolithic solver and the bridge FMU see the same wind.
+//! monolithic solver and the bridge FMU see the same wind. The forces are linear in `(u, w)`
+//! and the field is linear in time between its samples `t_k`, so between two samples
+//! `Fₙ(t) = Fₙ(t_k) + a (Fₙ(t_{k+1}) − Fₙ(t_k))` with the field's own weight `a`: a solver
+//! stepping through the field projects the deck points once per sample, not once per step
+//! ([`DeckBuffeting::add_modal_force`]).
 
 use super::ModalBridge;
 use serde::{Deserialize, Serialize};
