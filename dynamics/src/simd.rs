@@ -222,6 +222,108 @@ pub fn project_rows(y: &mut [f64], rows: &[f64], f: [f64; 3]) {
     project_rows_body(y, rows, f)
 }
 
+/// Runs `$kernel::<G, TAIL>(y, x, args…, r)` over `$n` rows from the pointers `$y`, `$x`:
+/// sixteen rows at a time (`G = 4`), then the rest as up to three groups of four and, with
+/// `TAIL`, a masked tail of `r` (1–3) rows. The kernels keep each group's sums in a register
+/// through all their terms ([`columns_groups`], [`rows_groups`]).
+#[cfg(target_arch = "x86_64")]
+macro_rules! in_row_groups {
+    ($n:expr, $kernel:ident, $y:expr, $x:expr, ($($arg:expr),*)) => {{
+        let (n, y, x) = ($n, $y, $x);
+        let mut i = 0;
+        while n - i >= 16 {
+            $kernel::<4, false>(y.add(i), x.add(i), $($arg,)* 0);
+            i += 16;
+        }
+        let (y, x) = (y.add(i), x.add(i));
+        match ((n - i) / 4, (n - i) % 4) {
+            (0, 0) => {}
+            (0, r) => $kernel::<0, true>(y, x, $($arg,)* r),
+            (1, 0) => $kernel::<1, false>(y, x, $($arg,)* 0),
+            (1, r) => $kernel::<1, true>(y, x, $($arg,)* r),
+            (2, 0) => $kernel::<2, false>(y, x, $($arg,)* 0),
+            (2, r) => $kernel::<2, true>(y, x, $($arg,)* r),
+            (3, 0) => $kernel::<3, false>(y, x, $($arg,)* 0),
+            (_, r) => $kernel::<3, true>(y, x, $($arg,)* r),
+        }
+    }};
+}
+
+/// The `G` groups of four values from `yp` and, with `TAIL`, the `r` (1–3) after them in the
+/// first lanes of one more vector (the others zero), or zeros without `from_y`: the tail
+/// through memory as scalars, which a store just before forwards element by element (a
+/// loop over them becomes a call of memcpy).
+///
+/// # Safety
+/// AVX2; with `from_y`, `4 G` (`+ r` with `TAIL`) values from `yp` readable.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn load_groups<const G: usize, const TAIL: bool>(
+    yp: *const f64,
+    r: usize,
+    from_y: bool,
+) -> ([std::arch::x86_64::__m256d; G], std::arch::x86_64::__m256d) {
+    use std::arch::x86_64::{_mm256_loadu_pd, _mm256_setzero_pd};
+    let mut acc = [_mm256_setzero_pd(); G];
+    let mut tail = [0.0; 4];
+    if from_y {
+        // SAFETY: the values the caller vouches for
+        unsafe {
+            for (g, acc) in acc.iter_mut().enumerate() {
+                *acc = _mm256_loadu_pd(yp.add(4 * g));
+            }
+            if TAIL {
+                let yt = yp.add(4 * G);
+                tail[0] = *yt;
+                if r > 1 {
+                    tail[1] = *yt.add(1);
+                }
+                if r > 2 {
+                    tail[2] = *yt.add(2);
+                }
+            }
+        }
+    }
+    // SAFETY: a local array of four
+    (acc, unsafe { _mm256_loadu_pd(tail.as_ptr()) })
+}
+
+/// The `G` groups `acc` to `yp`, `yp + 4`, …, and with `TAIL` the first `r` (1–3) lanes of
+/// `last` after them, as scalars.
+///
+/// # Safety
+/// AVX2; `4 G` (`+ r` with `TAIL`) values from `yp` writable.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn store_groups<const G: usize, const TAIL: bool>(
+    yp: *mut f64,
+    acc: &[std::arch::x86_64::__m256d; G],
+    last: std::arch::x86_64::__m256d,
+    r: usize,
+) {
+    use std::arch::x86_64::_mm256_storeu_pd;
+    // SAFETY: the values the caller vouches for
+    unsafe {
+        for (g, acc) in acc.iter().enumerate() {
+            _mm256_storeu_pd(yp.add(4 * g), *acc);
+        }
+        if TAIL {
+            let mut tail = [0.0; 4];
+            _mm256_storeu_pd(tail.as_mut_ptr(), last);
+            let yt = yp.add(4 * G);
+            *yt = tail[0];
+            if r > 1 {
+                *yt.add(1) = tail[1];
+            }
+            if r > 2 {
+                *yt.add(2) = tail[2];
+            }
+        }
+    }
+}
+
 /// [`project_rows`] of many points, in order: `y[n] ← y[n] + ((r₀[n] f₀ + r₁[n] f₁) + r₂[n] f₂)`
 /// for each point's three rows (`rows`: the points' `3 y.len()` values one after the other)
 /// and its `f` (`fs`, one per point), bit for bit as one [`project_rows`] per point. With
@@ -240,29 +342,10 @@ pub fn project_rows_many(y: &mut [f64], rows: &[f64], fs: &[[f64; 3]]) {
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
-        let (yp, rp) = (y.as_mut_ptr(), rows.as_ptr());
-        let mut i = 0;
         // SAFETY (each call): the processor has AVX2 (checked above); rows i..i + 4G (+ the
         // masked tail) ≤ n of y and of each point's three rows (3 n values a point, the
         // points inside `rows`, checked above)
-        while n - i >= 16 {
-            unsafe { rows_groups::<4, false>(yp.add(i), rp.add(i), n, fs, 0) };
-            i += 16;
-        }
-        let tail = n - i;
-        unsafe {
-            let (yp, rp) = (yp.add(i), rp.add(i));
-            match (tail / 4, tail % 4) {
-                (0, 0) => {}
-                (0, r) => rows_groups::<0, true>(yp, rp, n, fs, r),
-                (1, 0) => rows_groups::<1, false>(yp, rp, n, fs, 0),
-                (1, r) => rows_groups::<1, true>(yp, rp, n, fs, r),
-                (2, 0) => rows_groups::<2, false>(yp, rp, n, fs, 0),
-                (2, r) => rows_groups::<2, true>(yp, rp, n, fs, r),
-                (3, 0) => rows_groups::<3, false>(yp, rp, n, fs, 0),
-                (_, r) => rows_groups::<3, true>(yp, rp, n, fs, r),
-            }
-        }
+        unsafe { in_row_groups!(n, rows_groups, y.as_mut_ptr(), rows.as_ptr(), (n, fs)) };
         return;
     }
     for (point, &f) in rows.chunks_exact(3 * n).zip(fs) {
@@ -289,28 +372,11 @@ unsafe fn rows_groups<const G: usize, const TAIL: bool>(
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_setzero_pd, _mm256_storeu_pd,
     };
     let mask = first_lanes(r);
     // SAFETY: the values the caller vouches for
     unsafe {
-        let mut acc = [_mm256_setzero_pd(); G];
-        for (g, acc) in acc.iter_mut().enumerate() {
-            *acc = _mm256_loadu_pd(yp.add(4 * g));
-        }
-        // the tail's y through memory as scalars (see columns_groups)
-        let mut tail = [0.0; 4];
-        if TAIL {
-            let yt = yp.add(4 * G);
-            tail[0] = *yt;
-            if r > 1 {
-                tail[1] = *yt.add(1);
-            }
-            if r > 2 {
-                tail[2] = *yt.add(2);
-            }
-        }
-        let mut last = _mm256_loadu_pd(tail.as_ptr());
+        let (mut acc, mut last) = load_groups::<G, TAIL>(yp, r, true);
         for (j, f) in fs.iter().enumerate() {
             let (f0, f1, f2) = (
                 _mm256_set1_pd(f[0]),
@@ -349,20 +415,7 @@ unsafe fn rows_groups<const G: usize, const TAIL: bool>(
                 last = _mm256_add_pd(last, t);
             }
         }
-        for (g, acc) in acc.iter().enumerate() {
-            _mm256_storeu_pd(yp.add(4 * g), *acc);
-        }
-        if TAIL {
-            _mm256_storeu_pd(tail.as_mut_ptr(), last);
-            let yt = yp.add(4 * G);
-            *yt = tail[0];
-            if r > 1 {
-                *yt.add(1) = tail[1];
-            }
-            if r > 2 {
-                *yt.add(2) = tail[2];
-            }
-        }
+        store_groups::<G, TAIL>(yp, &acc, last, r);
     }
 }
 
@@ -475,28 +528,17 @@ fn axpy_columns_avx2(y: &mut [f64], a: &[f64], columns: &[f64], stride: usize, z
     } else {
         whole_columns(a, n, columns.len(), stride)
     };
-    let (yp, xp) = (y.as_mut_ptr(), columns.as_ptr());
-    let mut i = 0;
     // SAFETY (each call): rows i..i + 4G (+ the masked tail) ≤ n of y and of each column j
     // (values j·stride .. j·stride + n, inside `columns` for the columns kept above).
-    while n - i >= 16 {
-        unsafe { columns_groups::<4, false>(yp.add(i), xp.add(i), a, stride, 0, zero) };
-        i += 16;
-    }
-    let tail = n - i;
     unsafe {
-        let (yp, xp) = (yp.add(i), xp.add(i));
-        match (tail / 4, tail % 4) {
-            (0, 0) => {}
-            (0, r) => columns_groups::<0, true>(yp, xp, a, stride, r, zero),
-            (1, 0) => columns_groups::<1, false>(yp, xp, a, stride, 0, zero),
-            (1, r) => columns_groups::<1, true>(yp, xp, a, stride, r, zero),
-            (2, 0) => columns_groups::<2, false>(yp, xp, a, stride, 0, zero),
-            (2, r) => columns_groups::<2, true>(yp, xp, a, stride, r, zero),
-            (3, 0) => columns_groups::<3, false>(yp, xp, a, stride, 0, zero),
-            (_, r) => columns_groups::<3, true>(yp, xp, a, stride, r, zero),
-        }
-    }
+        in_row_groups!(
+            n,
+            columns_groups,
+            y.as_mut_ptr(),
+            columns.as_ptr(),
+            (a, stride, zero)
+        )
+    };
 }
 
 /// `G` groups of four rows from `yp` (column j's from `xp + j·stride`), and with `TAIL` the
@@ -515,36 +557,16 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
     xp: *const f64,
     a: &[f64],
     stride: usize,
-    r: usize,
     zero: bool,
+    r: usize,
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_loadu_pd, _mm256_maskload_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_setzero_pd, _mm256_storeu_pd,
     };
     let mask = first_lanes(r);
     // SAFETY: the rows the caller vouches for.
     unsafe {
-        let mut acc = [_mm256_setzero_pd(); G];
-        if !zero {
-            for (g, acc) in acc.iter_mut().enumerate() {
-                *acc = _mm256_loadu_pd(yp.add(4 * g));
-            }
-        }
-        // the tail's rows of y through memory as scalars, which a store just before forwards
-        // (element by element, r < 4: a loop over them becomes a call of memcpy)
-        let mut tail = [0.0; 4];
-        if TAIL && !zero {
-            let yt = yp.add(4 * G);
-            tail[0] = *yt;
-            if r > 1 {
-                tail[1] = *yt.add(1);
-            }
-            if r > 2 {
-                tail[2] = *yt.add(2);
-            }
-        }
-        let mut last = _mm256_loadu_pd(tail.as_ptr());
+        let (mut acc, mut last) = load_groups::<G, TAIL>(yp, r, !zero);
         for (j, &aj) in a.iter().enumerate() {
             let s = _mm256_set1_pd(aj);
             let col = xp.add(j * stride);
@@ -557,20 +579,7 @@ unsafe fn columns_groups<const G: usize, const TAIL: bool>(
                 last = _mm256_add_pd(last, _mm256_mul_pd(s, xv));
             }
         }
-        for (g, acc) in acc.iter().enumerate() {
-            _mm256_storeu_pd(yp.add(4 * g), *acc);
-        }
-        if TAIL {
-            _mm256_storeu_pd(tail.as_mut_ptr(), last);
-            let yt = yp.add(4 * G);
-            *yt = tail[0];
-            if r > 1 {
-                *yt.add(1) = tail[1];
-            }
-            if r > 2 {
-                *yt.add(2) = tail[2];
-            }
-        }
+        store_groups::<G, TAIL>(yp, &acc, last, r);
     }
 }
 
