@@ -41,17 +41,18 @@
 use super::{rail_prescribed, VehicleState, WheelForce};
 use crate::bridge::{LaneScratch, ModalBridge, SHAPE_LANES};
 use crate::newmark::Newmark;
-use crate::sparse::SparseCholesky;
 use crate::track::RailProfile;
 use crate::train::{Train, WheelsetRef};
+use crate::vehicle::aero::WindBody;
 use crate::vehicle::LinearVehicle;
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::sync::Arc;
 
 struct VehicleCache {
-    /// Cholesky of K̂_v, sparse (None for vehicles without DOFs): the wind's share of
-    /// `K̂⁻¹ b_v`.
-    chol: Option<SparseCholesky>,
+    /// `K̂⁻¹ e_d` of each DOF `d` the wind loads (the car body's, [`WindBody::of`]; none for
+    /// vehicles without DOFs or body): the wind's share of `K̂⁻¹ b_v` is `Σ_d F_d K̂⁻¹ e_d`,
+    /// five products of n values instead of a solve with the factor.
+    wind: Vec<(usize, Vec<f64>)>,
     /// `[C_vw,0 … C_vw,l …]ᵀ` (3n_w × n, column after column; the structural zeros exact):
     /// `C_vw,lᵀ v_c` of every wheelset in the bridge's right-hand side as one product.
     cvw_t: Vec<f64>,
@@ -745,9 +746,13 @@ impl Monolithic {
                     f.fill(0.0);
                     let u = body_turbulence(&self.buffeting, &self.train, i, t1);
                     self.train.add_wind_force(i, t1, u, 1.0, f);
-                    let chol = cache.chol.as_ref().expect("vehicle with DOFs has a factor");
-                    chol.solve_mut(f.as_mut_slice());
-                    *y += &*f;
+                    debug_assert!(
+                        (0..n).all(|k| f[k] == 0.0 || cache.wind.iter().any(|(d, _)| *d == k)),
+                        "the wind loads only the body's DOFs"
+                    );
+                    for (d, column) in &cache.wind {
+                        crate::simd::axpy(y.as_mut_slice(), f[*d], column);
+                    }
                 }
             }
             let rails = &mut w.rails;
@@ -1682,7 +1687,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     let cvw_t = cvw.transpose().as_slice().to_vec();
     if n == 0 {
         return VehicleCache {
-            chol: None,
+            wind: Vec::new(),
             cvw_t,
             s_dense: structural(&s),
             h_neg_t: Vec::new(),
@@ -1723,8 +1728,19 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     let e_state = chol.solve(&state).as_slice().to_vec();
     let e_rail = chol.solve(&rail).as_slice().to_vec();
     let g_tr = g.transpose().as_slice().to_vec();
+    let wind = WindBody::of(model)
+        .map(|b| {
+            let dofs = b.dofs.into_iter().chain(b.yaw_pitch.into_iter().flatten());
+            dofs.map(|d| {
+                let mut e = DVector::zeros(n);
+                e[d] = 1.0;
+                (d, chol.solve(&e).as_slice().to_vec())
+            })
+            .collect()
+        })
+        .unwrap_or_default();
     VehicleCache {
-        chol: Some(SparseCholesky::of(&chol)),
+        wind,
         cvw_t,
         s_dense: structural(&s),
         h_neg_t,
