@@ -1728,17 +1728,10 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     let e_state = chol.solve(&state).as_slice().to_vec();
     let e_rail = chol.solve(&rail).as_slice().to_vec();
     let g_tr = g.transpose().as_slice().to_vec();
-    let wind = WindBody::of(model)
-        .map(|b| {
-            let dofs = b.dofs.into_iter().chain(b.yaw_pitch.into_iter().flatten());
-            dofs.map(|d| {
-                let mut e = DVector::zeros(n);
-                e[d] = 1.0;
-                (d, chol.solve(&e).as_slice().to_vec())
-            })
-            .collect()
-        })
-        .unwrap_or_default();
+    let wind = WindBody::unit_responses(model, |e| {
+        let x = chol.solve(&DVector::from_column_slice(e));
+        e.copy_from_slice(x.as_slice());
+    });
     VehicleCache {
         wind,
         cvw_t,

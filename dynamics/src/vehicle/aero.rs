@@ -257,6 +257,27 @@ pub struct WindBody {
 }
 
 impl WindBody {
+    /// `(d, K̂⁻¹ e_d)` for each DOF `d` the wind loads on the body of `v` (lateral, vertical,
+    /// roll, and yaw and pitch where modelled; none without a body): `solve` replaces a
+    /// vector of `v`'s DOFs by `K̂⁻¹` times it. With these, the wind's share of a solve is
+    /// `K̂⁻¹ F = Σ_d F_d K̂⁻¹ e_d` ([`Self::add`] writes only these DOFs).
+    pub fn unit_responses(
+        v: &LinearVehicle,
+        mut solve: impl FnMut(&mut [f64]),
+    ) -> Vec<(usize, Vec<f64>)> {
+        let Some(b) = WindBody::of(v) else {
+            return Vec::new();
+        };
+        let dofs = b.dofs.into_iter().chain(b.yaw_pitch.into_iter().flatten());
+        dofs.map(|d| {
+            let mut e = vec![0.0; v.ndof()];
+            e[d] = 1.0;
+            solve(&mut e);
+            (d, e)
+        })
+        .collect()
+    }
+
     /// The body of `v`, if it has one that rolls (coaches; not moving forces or sprung
     /// masses).
     pub fn of(v: &LinearVehicle) -> Option<WindBody> {
