@@ -350,11 +350,12 @@ mod tests {
                 let mut scale = vec![0.25; n];
                 let ([cd, cl, cm], [dcd, dcl, dcm]) = (spec.coefficients, spec.slopes);
                 for (j, v) in uw.iter().enumerate() {
-                    let (u, w) = (v[0].abs() / 25.0, v[1].abs() / 25.0);
+                    let u_mean = spec.mean_speed_m_s;
+                    let (u, w) = (v[0].abs() / u_mean, v[1].abs() / u_mean);
                     let loads = [
                         b.q_b * (2.0 * cd.abs() * u + dcd.abs() * w),
                         b.q_b * (2.0 * cl.abs() * u + (dcl.abs() + cd.abs()) * w),
-                        b.q_b * 12.0 * (2.0 * cm.abs() * u + dcm.abs() * w),
+                        b.q_b * spec.width_m * (2.0 * cm.abs() * u + dcm.abs() * w),
                     ];
                     for (c, load) in loads.iter().enumerate() {
                         for (m, s) in scale.iter_mut().enumerate() {

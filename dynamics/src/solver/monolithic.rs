@@ -746,13 +746,7 @@ impl Monolithic {
                     f.fill(0.0);
                     let u = body_turbulence(&self.buffeting, &self.train, i, t1);
                     self.train.add_wind_force(i, t1, u, 1.0, f);
-                    debug_assert!(
-                        (0..n).all(|k| f[k] == 0.0 || cache.wind.iter().any(|(d, _)| *d == k)),
-                        "the wind loads only the body's DOFs"
-                    );
-                    for (d, column) in &cache.wind {
-                        crate::simd::axpy(y.as_mut_slice(), f[*d], column);
-                    }
+                    WindBody::add_responses(&cache.wind, f.as_slice(), y.as_mut_slice());
                 }
             }
             let rails = &mut w.rails;

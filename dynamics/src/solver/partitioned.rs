@@ -857,13 +857,7 @@ impl TrainSide {
                     w.fill(0.0);
                     self.train
                         .add_wind_force(i, t1, self.body_wind[i], nm.a0, w);
-                    debug_assert!(
-                        (0..n).all(|k| w[k] == 0.0 || factor.wind.iter().any(|(d, _)| *d == k)),
-                        "the wind loads only the body's DOFs"
-                    );
-                    for (d, column) in &factor.wind {
-                        crate::simd::axpy(a, w[*d], column);
-                    }
+                    WindBody::add_responses(&factor.wind, w.as_slice(), a);
                 }
                 let (v, vd, a) = (s.v.as_mut_slice(), s.vd.as_mut_slice(), s.vdd.as_slice());
                 for (((v, vd), a), (vp, vdp)) in

@@ -278,6 +278,18 @@ impl WindBody {
         .collect()
     }
 
+    /// `y ← y + K̂⁻¹ f` for a force `f` on `v`'s DOFs that loads only the body's
+    /// ([`Self::add`]), from its [`Self::unit_responses`]: `Σ_d f_d K̂⁻¹ e_d`.
+    pub fn add_responses(responses: &[(usize, Vec<f64>)], f: &[f64], y: &mut [f64]) {
+        debug_assert!(
+            (0..f.len()).all(|k| f[k] == 0.0 || responses.iter().any(|(d, _)| *d == k)),
+            "the wind loads only the body's DOFs"
+        );
+        for (d, column) in responses {
+            crate::simd::axpy(y, f[*d], column);
+        }
+    }
+
     /// The body of `v`, if it has one that rolls (coaches; not moving forces or sprung
     /// masses).
     pub fn of(v: &LinearVehicle) -> Option<WindBody> {
