@@ -20,6 +20,10 @@ const MAX_MESSAGES_PER_CALL: usize = 1000;
 pub struct LogSink {
     current: Mutex<CallLog>,
     echo: AtomicBool,
+    /// Messages may be held (set with each message kept or dropped, cleared with the
+    /// log): a call that starts with none held leaves the lock alone, as almost every
+    /// call of a run does.
+    held: AtomicBool,
 }
 
 #[derive(Debug, Default)]
@@ -33,6 +37,7 @@ impl LogSink {
         Self {
             current: Mutex::new(CallLog::default()),
             echo: AtomicBool::new(echo),
+            held: AtomicBool::new(false),
         }
     }
 
@@ -43,9 +48,13 @@ impl LogSink {
 
     /// Start collecting the messages of a new call (drops those of the previous one).
     pub fn begin_call(&self) {
+        if !self.held.load(Ordering::Acquire) {
+            return;
+        }
         let mut log = self.lock();
         log.messages.clear();
         log.dropped = 0;
+        self.held.store(false, Ordering::Release);
     }
 
     /// The messages logged since [`LogSink::begin_call`] (a final line says how many
@@ -65,6 +74,7 @@ impl LogSink {
             });
         }
         log.dropped = 0;
+        self.held.store(false, Ordering::Release);
         messages
     }
 
@@ -78,6 +88,7 @@ impl LogSink {
         } else {
             log.dropped += 1;
         }
+        self.held.store(true, Ordering::Release);
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, CallLog> {
