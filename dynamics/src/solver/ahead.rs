@@ -307,20 +307,46 @@ mod tests {
 
     #[test]
     fn a_worker_far_behind_ends_the_ring() {
-        let mut a = Ahead::spawn(vec![0u64; 3], Some(MAX_LAG), |k, s| {
+        // The worker fills steps 0 to 4 and then stalls at step 5 until released: the loop
+        // takes the five, then gives up on step 5 after MAX_LAG, while the worker is still
+        // stalled (no bound on the loop's wait beyond that: on a loaded machine a thread
+        // may wait for its core any time).
+        let made = Arc::new(AtomicU64::new(0));
+        let release = Arc::new(AtomicBool::new(false));
+        let (m, r) = (made.clone(), release.clone());
+        let mut a = Ahead::spawn(vec![0u64; 6], Some(MAX_LAG), move |k, s| {
             if k == 5 {
-                thread::sleep(MAX_LAG * 10);
+                // a guard against a test that fails before it releases the worker
+                let start = Instant::now();
+                while !r.load(Ordering::Acquire) && start.elapsed() < Duration::from_secs(30) {
+                    thread::sleep(Duration::from_millis(1));
+                }
             }
             *s = k;
+            m.store(k + 1, Ordering::Release);
         })
         .unwrap();
+        let start = Instant::now();
+        while made.load(Ordering::Acquire) < 5 {
+            assert!(
+                start.elapsed() < Duration::from_secs(30),
+                "the worker never ran"
+            );
+            thread::sleep(Duration::from_millis(1));
+        }
         for k in 0..5 {
             assert_eq!(a.next(|_, s| *s), Some(k));
         }
         let start = Instant::now();
         assert_eq!(a.next(|_, s| *s), None);
         let waited = start.elapsed();
-        assert!(waited >= MAX_LAG && waited < MAX_LAG * 5, "{waited:?}");
+        assert!(waited >= MAX_LAG, "{waited:?}");
+        assert_eq!(
+            made.load(Ordering::Acquire),
+            5,
+            "the worker was still stalled"
+        );
+        release.store(true, Ordering::Release);
     }
 
     #[test]
