@@ -343,6 +343,12 @@ impl CouplingScheme for Implicit {
                 .evaluate_in(&self.x, &self.x_tilde, &mut self.groups);
             if report.residual <= 1.0 {
                 report.converged = true;
+                // (after the first sweep: the scaling is this step's, and an update came
+                // before it)
+                if k > 0 {
+                    self.acceleration
+                        .converged(&self.x, &self.x_tilde, &self.scale);
+                }
                 break;
             }
             if k + 1 == self.max_iterations {

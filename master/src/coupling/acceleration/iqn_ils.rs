@@ -11,7 +11,13 @@
 //! W = [x̃ₖ − x̃ₖ₋₁, x̃ₖ₋₁ − x̃ₖ₋₂, …, x̃₁ − x̃₀]  (output differences)
 //! ```
 //!
-//! optionally followed by the columns of the last `reuse_steps` converged steps. The residual
+//! optionally followed by the columns of the last `reuse_steps` converged steps. The sweep that
+//! meets the convergence criterion adds its differences too ([`Acceleration::converged`], as
+//! preCICE's `iterationsConverged`), so a step that converged in its second sweep leaves the
+//! column `(r₁ − r₀, x̃₁ − x̃₀)`, the map on the direction of its first residual, for the steps
+//! after it. Without those columns a reused step would bring one column fewer, and a step of
+//! two sweeps none: on the bench case of `tbi bench` 2.47 sweeps per step instead of 2.10.
+//! The residual
 //! change that would cancel `rₖ` is approximated in the span of `V`, `−rₖ ≈ V c`, and the same
 //! combination of output changes is applied:
 //!
@@ -190,6 +196,19 @@ impl Acceleration for IqnIls {
         self.prev = Some((r, t));
     }
 
+    /// The converged sweep's differences join the step's columns (kept by
+    /// [`Acceleration::end_step`] for the steps that reuse them).
+    fn converged(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64]) {
+        if let Some((pr, pt)) = self.prev.take() {
+            let n = x.len();
+            let v = self.vector(n, |i| (x_tilde[i] - x[i]) - pr[i]);
+            let w = self.vector(n, |i| x_tilde[i] - pt[i]);
+            self.window.push(v, w, scale);
+            self.window.spare.push(pr);
+            self.window.spare.push(pt);
+        }
+    }
+
     fn end_step(&mut self, converged: bool) {
         self.forget_previous();
         if !(converged && self.reuse_steps > 0) {
@@ -242,5 +261,39 @@ mod tests {
             sweeps, 5,
             "n + 1 updates for n = 3, then the confirming sweep"
         );
+    }
+
+    #[test]
+    fn a_step_converged_in_its_second_sweep_leaves_its_column() {
+        // H(x) = A x + b, A = diag(0.5, −0.3). Step 1: b along e₁, and the first update, the
+        // relaxation x₀ + 2 r₀, lands on the fixed point (2 = 1 / (1 − 0.5)), so the second
+        // sweep converges without a secant update.
+        let h = |x: &[f64], b: [f64; 2]| vec![0.5 * x[0] + b[0], -0.3 * x[1] + b[1]];
+        let scale = [1.0; 2];
+        let mut acc = IqnIls::new(2.0, 1);
+        acc.initialize(2);
+        acc.begin_step(0.1);
+        let b1 = [1.0, 0.0];
+        let x0 = vec![0.0; 2];
+        let mut x1 = vec![0.0; 2];
+        acc.perform(&x0, &h(&x0, b1), &scale, &mut x1);
+        assert_eq!(acc.used_columns(), 0);
+        assert_eq!(x1, vec![2.0, 0.0]);
+        acc.converged(&x1, &h(&x1, b1), &scale);
+        acc.end_step(true);
+        // Step 2 from x₀ = (0, 0) with b = (3, 1): the first update fits r₀ with the column
+        // step 1 left, (r₁ − r₀, x̃₁ − x̃₀) = ((0, 0) − (1, 0), (2, 0) − (1, 0)), which carries
+        // the map on e₁ exactly; the rest, along e₂, is a Gauss–Seidel step.
+        acc.begin_step(0.1);
+        let b2 = [3.0, 1.0];
+        let mut next = vec![0.0; 2];
+        acc.perform(&x0, &h(&x0, b2), &scale, &mut next);
+        assert_eq!(
+            acc.used_columns(),
+            1,
+            "the converged sweep's column is reused"
+        );
+        assert!((next[0] - 6.0).abs() < 1e-14, "{next:?}");
+        assert!((next[1] - 1.0).abs() < 1e-14, "{next:?}");
     }
 }

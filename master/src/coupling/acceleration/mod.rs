@@ -18,7 +18,8 @@
 //! [`ConstantRelaxation`] ignores it.
 //!
 //! Call sequence per step: [`Acceleration::begin_step`], then [`Acceleration::perform`] once per
-//! non-converged sweep, then [`Acceleration::end_step`].
+//! non-converged sweep, [`Acceleration::converged`] with a converged sweep after the first,
+//! then [`Acceleration::end_step`].
 
 mod aitken;
 mod constant;
@@ -48,6 +49,11 @@ pub trait Acceleration {
     /// Computes the next guess `next` from the guess `x`, the sweep result `x_tilde = H(x)` and
     /// the per-variable scaling `scale` (positive, constant within the step).
     fn perform(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64], next: &mut [f64]);
+
+    /// The sweep `x_tilde = H(x)` met the convergence criterion (called before
+    /// [`Acceleration::end_step`]): methods that learn from the sweeps may keep what this one
+    /// adds. Default: ignored.
+    fn converged(&mut self, _x: &[f64], _x_tilde: &[f64], _scale: &[f64]) {}
 
     /// The step ends; `converged` tells whether the convergence criterion was met.
     fn end_step(&mut self, converged: bool);
