@@ -60,7 +60,7 @@
 //! the update is constant relaxation `x₁ = x₀ + ω r₀`.
 
 use super::secant::{Cholesky, Window};
-use super::{scaled_dot, Acceleration};
+use super::{scaled_dots, Acceleration};
 
 /// IQN-ILS quasi-Newton acceleration.
 #[derive(Debug, Clone)]
@@ -161,12 +161,9 @@ impl Acceleration for IqnIls {
         }
         // −(D V)ᵀ D r, newest column first.
         self.rhs.clear();
-        self.rhs.extend(
-            self.window
-                .columns
-                .iter()
-                .map(|c| -scaled_dot(&c.v, &r, scale)),
-        );
+        let columns = self.window.columns.iter().map(|c| c.v.as_slice());
+        scaled_dots(&r, columns, scale, &mut self.rhs);
+        self.rhs.iter_mut().for_each(|d| *d = -*d);
         let window = &self.window;
         self.ls.solve(
             window.columns.len(),

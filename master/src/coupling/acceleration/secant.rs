@@ -16,7 +16,7 @@
 
 use std::collections::VecDeque;
 
-use super::scaled_dot;
+use super::{scaled_dot, scaled_dots};
 
 /// Smallest effective filter limit of the normal equations (see the module documentation).
 const MIN_FILTER_LIMIT: f64 = 1e-6;
@@ -114,10 +114,9 @@ impl Window {
         let cols: Vec<&Vec<f64>> = self.columns.iter().map(|c| &c.v).collect();
         let fresh: Vec<(f64, Vec<f64>)> = (0..cols.len())
             .map(|p| {
-                let dots = cols[p + 1..]
-                    .iter()
-                    .map(|q| scaled_dot(cols[p], q, scale))
-                    .collect();
+                let mut dots = Vec::with_capacity(cols.len() - p - 1);
+                let older = cols[p + 1..].iter().map(|q| q.as_slice());
+                scaled_dots(cols[p], older, scale, &mut dots);
                 (scaled_dot(cols[p], cols[p], scale), dots)
             })
             .collect();
@@ -131,7 +130,12 @@ impl Window {
     pub(super) fn push(&mut self, v: Vec<f64>, w: Vec<f64>, scale: &[f64]) {
         self.rescale(scale);
         let mut dots = self.vector();
-        dots.extend(self.columns.iter().map(|c| scaled_dot(&v, &c.v, scale)));
+        scaled_dots(
+            &v,
+            self.columns.iter().map(|c| c.v.as_slice()),
+            scale,
+            &mut dots,
+        );
         let norm2 = scaled_dot(&v, &v, scale);
         self.columns.push_front(Column { v, w, norm2, dots });
         *self.per_step.front_mut().expect("a step is open") += 1;
