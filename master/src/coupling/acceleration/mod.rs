@@ -211,6 +211,16 @@ fn scaled_dot_body(a: &[f64], b: &[f64], s: &[f64]) -> f64 {
 mod tests {
     use super::scaled_dot;
 
+    /// Lengths through the vector tails and past one AVX2 vector's multiples.
+    const LENGTHS: [usize; 11] = [0, 1, 3, 4, 5, 8, 15, 16, 17, 160, 163];
+
+    /// `n` values whose products and sums round (`seed` makes another vector).
+    fn v(n: usize, seed: f64) -> Vec<f64> {
+        (0..n)
+            .map(|i| ((i as f64 + seed) * 0.618_033_988_749_895).sin() * 1e3 / (1.0 + i as f64))
+            .collect()
+    }
+
     /// Small integers are summed exactly in any order: every length through the tail cases.
     #[test]
     fn scaled_dot_equals_the_exact_sum() {
@@ -229,12 +239,7 @@ mod tests {
     /// every group size and tail (0 to 9 columns of lengths through the vector tails).
     #[test]
     fn scaled_dots_equal_one_call_per_column() {
-        let v = |n: usize, seed: f64| -> Vec<f64> {
-            (0..n)
-                .map(|i| ((i as f64 + seed) * 0.618_033_988_749_895).sin() * 1e3 / (1.0 + i as f64))
-                .collect()
-        };
-        for n in [0, 1, 3, 4, 5, 8, 15, 16, 17, 160, 163] {
+        for n in LENGTHS {
             let (x, s) = (v(n, 0.3), v(n, 2.9));
             for m in 0..10 {
                 let columns: Vec<Vec<f64>> = (0..m).map(|j| v(n, 1.7 + j as f64)).collect();
@@ -254,12 +259,7 @@ mod tests {
     /// the processor has it) sums exactly in the documented order.
     #[test]
     fn scaled_dot_sums_in_the_documented_order() {
-        let v = |n: usize, seed: f64| -> Vec<f64> {
-            (0..n)
-                .map(|i| ((i as f64 + seed) * 0.618_033_988_749_895).sin() * 1e3 / (1.0 + i as f64))
-                .collect()
-        };
-        for n in [0, 1, 3, 4, 5, 8, 15, 16, 17, 160, 163] {
+        for n in LENGTHS {
             let (a, b, s) = (v(n, 0.3), v(n, 1.7), v(n, 2.9));
             let mut sum = [0.0; 4];
             for i in 0..n {
