@@ -194,8 +194,12 @@ impl Acceleration for IqnIls {
     }
 
     /// The converged sweep's differences join the step's columns (kept by
-    /// [`Acceleration::end_step`] for the steps that reuse them).
+    /// [`Acceleration::end_step`] for the steps that reuse them; without reused steps the
+    /// step's columns are dropped, and so is this one).
     fn converged(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64]) {
+        if self.reuse_steps == 0 {
+            return;
+        }
         if let Some((pr, pt)) = self.prev.take() {
             let n = x.len();
             let v = self.vector(n, |i| (x_tilde[i] - x[i]) - pr[i]);
