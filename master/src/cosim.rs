@@ -210,6 +210,7 @@ pub fn run_cosim<W: std::io::Write>(
         acceleration: cfg.acceleration.as_str().into(),
         iterations_mean: stats.mean_iterations(),
         iterations_max: stats.max_iterations,
+        steps_by_iterations: stats.steps_by_iterations.clone(),
         steps: stats.steps,
         accepted_unconverged: stats.accepted_unconverged,
         rejected: stats.rejected,

@@ -270,6 +270,7 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         "steps": stats.steps,
         "iterations_mean": stats.mean_iterations(),
         "iterations_max": stats.max_iterations,
+        "steps_by_iterations": stats.steps_by_iterations,
         "jacobian_probes": stats.jacobian_probes,
         "max_residual": stats.max_residual,
         "accepted_unconverged": stats.accepted_unconverged,

@@ -88,6 +88,9 @@ pub struct CouplingSummary {
     pub acceleration: String,
     pub iterations_mean: f64,
     pub iterations_max: usize,
+    /// Steps by their number of sweeps: entry `k` counts the steps that took `k + 1`.
+    #[serde(default)]
+    pub steps_by_iterations: Vec<usize>,
     pub steps: usize,
     pub accepted_unconverged: usize,
     pub rejected: usize,

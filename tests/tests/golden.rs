@@ -126,6 +126,7 @@ fn without_locations(summary: &mut Value) {
             "train_fmu",
             "iterations_mean",
             "iterations_max",
+            "steps_by_iterations",
             "max_residual",
             "jacobian_probes",
         ] {

@@ -15,6 +15,8 @@ pub struct CouplingStatistics {
     pub iterations: usize,
     /// Largest number of sweeps in one kept step.
     pub max_iterations: usize,
+    /// Kept steps by their number of sweeps: entry `k` counts the steps that took `k + 1`.
+    pub steps_by_iterations: Vec<usize>,
     /// Largest residual of a kept step (weighted RMS; ≤ 1 when converged).
     pub max_residual: f64,
     /// Kept steps that did not converge (policy `Accept`).
@@ -35,6 +37,7 @@ impl Default for CouplingStatistics {
             steps: 0,
             iterations: 0,
             max_iterations: 0,
+            steps_by_iterations: Vec::new(),
             max_residual: 0.0,
             accepted_unconverged: 0,
             rejected: 0,
@@ -68,6 +71,12 @@ impl CouplingStatistics {
         self.steps += 1;
         self.iterations += report.iterations;
         self.max_iterations = self.max_iterations.max(report.iterations);
+        if let Some(k) = report.iterations.checked_sub(1) {
+            if self.steps_by_iterations.len() <= k {
+                self.steps_by_iterations.resize(k + 1, 0);
+            }
+            self.steps_by_iterations[k] += 1;
+        }
         self.max_residual = self.max_residual.max(report.residual);
         self.min_step = self.min_step.min(h);
         self.jacobian_probes += report.jacobian_probes;
@@ -111,5 +120,33 @@ impl fmt::Display for CouplingStatistics {
             )?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(iterations: usize) -> StepReport {
+        StepReport {
+            iterations,
+            residual: 0.5,
+            converged: true,
+            discarded_by: None,
+            diagnosis: None,
+            jacobian_probes: 0,
+        }
+    }
+
+    #[test]
+    fn steps_are_counted_by_their_sweeps() {
+        let mut stats = CouplingStatistics::new();
+        for k in [2, 2, 3, 5, 2, 1] {
+            stats.record_step(0.01, &step(k));
+        }
+        assert_eq!(stats.steps_by_iterations, vec![1, 3, 1, 0, 1]);
+        assert_eq!(stats.steps_by_iterations.iter().sum::<usize>(), stats.steps);
+        assert_eq!(stats.max_iterations, stats.steps_by_iterations.len());
+        assert_eq!(stats.iterations, 15);
     }
 }
