@@ -26,7 +26,8 @@
 //!
 //! `--quick` runs 1 and 2 only. `--json FILE` writes every figure measured under the stable
 //! names `monolithic_realtime_factor`, `cosim_realtime_factor`, `cosim_over_monolithic`,
-//! `cosim_iterations_per_step`, `scale_monolithic_realtime_factor`,
+//! `cosim_iterations_per_step`, `cosim_steps_by_iterations` (entry k: the bench case's steps
+//! that took k + 1 sweeps), `scale_monolithic_realtime_factor`,
 //! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
 //! per simulated second), `fe_modes_50_s`, `tsing_ma_wind_over_still_air`,
 //! `sweep_tsing_ma_4_speeds_s`, `hslm_sweep_s`,
@@ -240,6 +241,22 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     figures.insert(
         "cosim_iterations_per_step".into(),
         coupling.iterations_mean.into(),
+    );
+    let by = &coupling.steps_by_iterations;
+    let shares: Vec<String> = (by.iter().enumerate())
+        .filter(|(_, &n)| n > 0)
+        .map(|(k, &n)| {
+            format!(
+                "{}: {:.1} %",
+                k + 1,
+                100.0 * n as f64 / coupling.steps as f64
+            )
+        })
+        .collect();
+    println!("  steps by their sweeps: {}", shares.join(", "));
+    figures.insert(
+        "cosim_steps_by_iterations".into(),
+        serde_json::to_value(by)?,
     );
     if !args.quick {
         use crate::scenario::SolverKind::{Cosim, Monolithic};
