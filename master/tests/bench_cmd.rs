@@ -2,7 +2,7 @@
 //! defines, and what they are made of agreeing with each other (one repeat of the bench case
 //! on each solver; timings are not asserted).
 
-use tbi_tests::{read_json, require_fmu_libraries, run_ok, scratch, tbi_command};
+use tbi_tests::{read_json, require_fmu_libraries, run_ok, scratch, steps_by_sweeps, tbi_command};
 
 #[test]
 fn bench_json_has_the_stable_names_and_consistent_figures() {
@@ -34,15 +34,8 @@ fn bench_json_has_the_stable_names_and_consistent_figures() {
         "{ratio} vs {mono}/{cosim}"
     );
     // the bench case's steps by their sweeps give its mean sweeps per step
-    let by: Vec<u64> = f["cosim_steps_by_iterations"]
-        .as_array()
-        .expect("cosim_steps_by_iterations")
-        .iter()
-        .map(|n| n.as_u64().expect("a count"))
-        .collect();
-    let steps: u64 = by.iter().sum();
+    let (by, steps, sweeps) = steps_by_sweeps(&f["cosim_steps_by_iterations"]);
     assert_eq!(steps, 22_378, "{by:?}");
-    let sweeps: u64 = by.iter().zip(1..).map(|(n, k)| n * k).sum();
     assert_eq!(
         sweeps as f64 / steps as f64,
         number("cosim_iterations_per_step")

@@ -160,19 +160,8 @@ fn run_case(label: &str, scenario: &Scenario, methods: &[&Method]) -> (Table, Ve
                 }
                 // the steps by their sweeps: every step once, the mean and the largest as
                 // reported
-                let by: Vec<u64> = c["steps_by_iterations"]
-                    .as_array()
-                    .expect("coupling.steps_by_iterations")
-                    .iter()
-                    .map(|k| k.as_u64().expect("a count"))
-                    .collect();
-                let sweeps: u64 = by.iter().zip(1..).map(|(n, k)| n * k).sum();
-                assert_eq!(
-                    by.iter().sum::<u64>(),
-                    steps,
-                    "{}: steps by sweeps",
-                    m.label
-                );
+                let (by, counted, sweeps) = tbi_tests::steps_by_sweeps(&c["steps_by_iterations"]);
+                assert_eq!(counted, steps, "{}: steps by sweeps", m.label);
                 assert_eq!(sweeps as f64 / steps as f64, mean, "{}: mean", m.label);
                 assert_eq!(by.len() as u64, max, "{}: largest", m.label);
                 assert!(by.last().is_some_and(|&n| n > 0), "{}: {by:?}", m.label);

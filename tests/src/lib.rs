@@ -89,6 +89,20 @@ pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The steps counted by their sweeps (`steps_by_iterations`: entry k the steps that took
+/// k + 1), with the steps and the sweeps they add up to.
+pub fn steps_by_sweeps(counts: &serde_json::Value) -> (Vec<u64>, u64, u64) {
+    let by: Vec<u64> = counts
+        .as_array()
+        .unwrap_or_else(|| panic!("steps by sweeps: not an array: {counts}"))
+        .iter()
+        .map(|n| n.as_u64().unwrap_or_else(|| panic!("not a count: {n}")))
+        .collect();
+    let steps = by.iter().sum();
+    let sweeps = by.iter().zip(1..).map(|(n, k)| n * k).sum();
+    (by, steps, sweeps)
+}
+
 /// `summary.json` in the output folder `out` of `tbi run`.
 pub fn read_summary(out: &Path) -> serde_json::Value {
     read_json(&out.join("summary.json"))
