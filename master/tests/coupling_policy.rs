@@ -253,10 +253,16 @@ fn coupling_config_defaults_and_keys() {
     let c: CouplingConfig = toml::from_str("").unwrap();
     assert_eq!(c, CouplingConfig::default());
     assert_eq!(c.scheme, SchemeKind::Implicit);
-    assert_eq!(c.acceleration, AccelerationKind::Aitken);
+    assert_eq!(c.acceleration, AccelerationKind::IqnIls);
     assert_eq!(
-        (c.relaxation, c.rtol, c.atol, c.max_iterations),
-        (0.5, 1e-10, 1e-12, 50)
+        (
+            c.relaxation,
+            c.rtol,
+            c.atol,
+            c.max_iterations,
+            c.reuse_steps
+        ),
+        (0.5, 1e-10, 1e-12, 50, 8)
     );
     assert_eq!(c.predictor, Predictor::Quadratic);
     assert_eq!(c.on_non_convergence, NonConvergenceAction::Stop);
@@ -291,8 +297,8 @@ fn coupling_config_defaults_and_keys() {
     assert_eq!(c.scheme, SchemeKind::Jacobi);
 
     for (text, name) in [
-        ("", "implicit (aitken)"),
-        ("acceleration = \"iqn-ils\"", "implicit (iqn-ils)"),
+        ("", "implicit (iqn-ils)"),
+        ("acceleration = \"aitken\"", "implicit (aitken)"),
         ("acceleration = \"constant\"", "implicit (constant)"),
         ("scheme = \"gauss-seidel\"", "gauss-seidel"),
         ("scheme = \"jacobi\"", "jacobi"),

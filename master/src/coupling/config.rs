@@ -136,7 +136,8 @@ keywords!(NonConvergenceAction, "on_non_convergence", {
 pub struct CouplingConfig {
     /// Coupling algorithm. Default `"implicit"`.
     pub scheme: SchemeKind,
-    /// Acceleration of the implicit iteration; unused by explicit schemes. Default `"aitken"`.
+    /// Acceleration of the implicit iteration; unused by explicit schemes. Default
+    /// `"iqn-ils"`.
     pub acceleration: AccelerationKind,
     /// Relaxation factor ω ∈ (0, 1] (dimensionless): the constant factor, Aitken's initial
     /// factor and the factor of IQN-ILS's first iteration. Default 0.5.
@@ -151,7 +152,7 @@ pub struct CouplingConfig {
     /// First guess of each step: `"quadratic"` or `"linear"` extrapolation of the accepted
     /// values, or `"constant"`. Default `"quadratic"`.
     pub predictor: Predictor,
-    /// IQN-ILS: previous converged steps whose columns are reused. Default 0.
+    /// IQN-ILS: previous converged steps whose columns are reused. Default 8.
     pub reuse_steps: usize,
     /// What to do when a step does not converge: `"stop"`, `"retry"` (halve the step) or
     /// `"accept"` (keep it and report it). Default `"stop"`.
@@ -164,13 +165,13 @@ impl Default for CouplingConfig {
     fn default() -> Self {
         Self {
             scheme: SchemeKind::Implicit,
-            acceleration: AccelerationKind::Aitken,
+            acceleration: AccelerationKind::IqnIls,
             relaxation: 0.5,
             rtol: 1e-10,
             atol: 1e-12,
             max_iterations: 50,
             predictor: Predictor::Quadratic,
-            reuse_steps: 0,
+            reuse_steps: 8,
             on_non_convergence: NonConvergenceAction::Stop,
             min_step: None,
         }
