@@ -41,7 +41,8 @@ pub struct CosimArgs {
     /// `implicit`, `gauss-seidel` or `jacobi`.
     #[arg(long)]
     pub scheme: Option<String>,
-    /// `constant`, `aitken` or `iqn-ils` (implicit scheme).
+    /// `iqn-ils`, `aitken`, `newton` or `constant` (implicit scheme; default: the
+    /// annotation's, else `iqn-ils` reusing the last 8 steps' columns).
     #[arg(long)]
     pub acceleration: Option<String>,
     #[arg(long, allow_negative_numbers = true)]
