@@ -104,6 +104,26 @@ impl IqnIls {
         v
     }
 
+    /// The column `(r − rₖ₋₁, x̃ − x̃ₖ₋₁)` of this sweep's residual `r(i)` and outputs against
+    /// the step's previous sweep, pushed into the window; false when there is none.
+    fn push_difference(
+        &mut self,
+        r: impl Fn(usize) -> f64,
+        x_tilde: &[f64],
+        scale: &[f64],
+    ) -> bool {
+        let Some((pr, pt)) = self.prev.take() else {
+            return false;
+        };
+        let n = x_tilde.len();
+        let v = self.vector(n, |i| r(i) - pr[i]);
+        let w = self.vector(n, |i| x_tilde[i] - pt[i]);
+        self.window.push(v, w, scale);
+        self.window.spare.push(pr);
+        self.window.spare.push(pt);
+        true
+    }
+
     fn forget_previous(&mut self) {
         if let Some((r, t)) = self.prev.take() {
             self.window.spare.push(r);
@@ -150,13 +170,7 @@ impl Acceleration for IqnIls {
     fn perform(&mut self, x: &[f64], x_tilde: &[f64], scale: &[f64], next: &mut [f64]) {
         let n = x.len();
         let r = self.vector(n, |i| x_tilde[i] - x[i]);
-        if let Some((pr, pt)) = self.prev.take() {
-            let v = self.vector(n, |i| r[i] - pr[i]);
-            let w = self.vector(n, |i| x_tilde[i] - pt[i]);
-            self.window.push(v, w, scale);
-            self.window.spare.push(pr);
-            self.window.spare.push(pt);
-        } else {
+        if !self.push_difference(|i| r[i], x_tilde, scale) {
             self.window.rescale(scale);
         }
         // −(D V)ᵀ D r, newest column first.
@@ -200,14 +214,7 @@ impl Acceleration for IqnIls {
         if self.reuse_steps == 0 {
             return;
         }
-        if let Some((pr, pt)) = self.prev.take() {
-            let n = x.len();
-            let v = self.vector(n, |i| (x_tilde[i] - x[i]) - pr[i]);
-            let w = self.vector(n, |i| x_tilde[i] - pt[i]);
-            self.window.push(v, w, scale);
-            self.window.spare.push(pr);
-            self.window.spare.push(pt);
-        }
+        self.push_difference(|i| x_tilde[i] - x[i], x_tilde, scale);
     }
 
     fn end_step(&mut self, converged: bool) {
