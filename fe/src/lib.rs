@@ -191,6 +191,7 @@ pub mod beam;
 pub mod bridge;
 mod elements;
 pub mod error;
+pub mod influence;
 mod krylov;
 pub mod modal;
 pub mod params;

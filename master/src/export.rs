@@ -62,7 +62,7 @@ pub struct Exported {
 pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
     let scenario = crate::scenario::load(args.scenario.as_deref(), None, None)?;
     let e = export_scenario(&scenario, &args.out)?;
-    println!(
+    crate::say!(
         "{}\n{}\n{}",
         e.bridge.display(),
         e.train.display(),

@@ -1,10 +1,11 @@
 //! The `tbi` tool: scenarios, solvers and the co-simulation master (FMI import is the
 //! `fmi-import` crate).
 pub mod bench;
+pub mod console;
 pub mod cosim;
 pub mod cosim_cmd;
 pub mod coupling;
-pub mod envelope;
+pub mod design;
 pub mod export;
 pub mod interrupt;
 pub mod model;

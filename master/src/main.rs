@@ -1,4 +1,8 @@
 //! `tbi`: train–bridge interaction command line.
+//!
+//! Exit codes: 0 every check passes, 1 an error, 2 a command line refused, 3 a check FAILs
+//! (`tbi run`'s limits, `tbi sweep --trains`' design checks),
+//! 130 interrupted by a signal. A closed standard output ends the printing quietly.
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -40,8 +44,14 @@ enum Command {
 
 #[derive(Subcommand)]
 enum ScenarioCommand {
-    /// Print the embedded default scenario (the Tsing Ma case) as TOML.
-    Show,
+    /// Print an embedded scenario as TOML: the default (the Tsing Ma case), or an example
+    /// by name (`tbi scenario list`).
+    Show {
+        /// The example's name (default: the Tsing Ma case).
+        name: Option<String>,
+    },
+    /// The embedded scenarios' names, one per line, with what each is.
+    List,
 }
 
 fn main() -> ExitCode {
@@ -67,14 +77,24 @@ fn main() -> ExitCode {
         Command::Modes(args) => tbi::modes::main(args),
         Command::Sweep(args) => tbi::sweep::main(args),
         Command::Scenario {
-            what: ScenarioCommand::Show,
+            what: ScenarioCommand::Show { name },
+        } => tbi::scenario::examples::text(name.as_deref()).map(|t| {
+            tbi::say!("{}", t.trim_end());
+        }),
+        Command::Scenario {
+            what: ScenarioCommand::List,
         } => {
-            print!("{}", tbi::scenario::DEFAULT_SCENARIO);
+            for (name, what, _) in tbi::scenario::examples::EXAMPLES {
+                tbi::say!("{name}\t{what}");
+            }
             Ok(())
         }
         Command::Bench(args) => tbi::bench::main(args),
     };
     match result {
+        Ok(()) if tbi::console::any_check_failed() => {
+            ExitCode::from(tbi::console::EXIT_CHECK_FAILED)
+        }
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("tbi: error: {e:#}");

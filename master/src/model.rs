@@ -35,24 +35,52 @@ impl Model {
         self.steps as f64 * self.dt
     }
 
+    /// The bytes of a `history.csv` row: a value that changes from step to step takes
+    /// [`VALUE_BYTES`] (`{:e}` of an f64 and its comma); a moving force's wheelset columns
+    /// hold the same five numbers at every step (no lateral force, moment and derail or
+    /// offload factor, `0e0`, and the axle load).
+    pub fn history_row_bytes(&self) -> f64 {
+        let varying = 1.0
+            + 4.0 * self.probes.len() as f64
+            + self
+                .train
+                .vehicles
+                .iter()
+                .map(|v| {
+                    f64::from(u8::from(v.model.body.lateral.is_some()))
+                        + f64::from(u8::from(v.model.body.vertical.is_some()))
+                })
+                .sum::<f64>();
+        let wheelsets: f64 = match &self.train_res.spec {
+            tbi_dynamics::interface::TrainSpec::MovingForce(axles) => axles
+                .iter()
+                .map(|a| 16.0 + format!("{:e},", a.load_n).len() as f64)
+                .sum(),
+            _ => 5.0 * VALUE_BYTES * self.train.n_wheelsets() as f64,
+        };
+        varying * VALUE_BYTES + wheelsets
+    }
+
     /// What a run of this model will cost, estimated before any step is taken.
     pub fn estimate(&self) -> Estimate {
         let steps = self.steps as f64;
         let nw = self.train.n_wheelsets() as f64;
         let nv = self.train.vehicles.len() as f64;
         let nb = self.bridge.n_modes() as f64;
-        let columns = 1.0 + 4.0 * self.probes.len() as f64 + 2.0 * nv + 5.0 * nw;
         let rows = steps / self.output_every as f64 + 1.0;
         Estimate {
             steps,
-            // about 24 characters per full-precision value and its separator
-            history_bytes: rows * columns * 24.0,
+            history_bytes: rows * self.history_row_bytes(),
             // car-body acceleration histories (Sperling indices) and the per-step
             // mode-shape and interface arrays
             memory_bytes: 16.0 * nv * steps + 8.0 * 24.0 * nw * nb + 4096.0 * (nw + nb),
         }
     }
 }
+
+/// The bytes of a value in `history.csv` that changes from step to step (`{:e}` of an f64,
+/// e.g. `-7.253234597970186e-3`, and its comma).
+pub const VALUE_BYTES: f64 = 22.0;
 
 /// The cost of a run, estimated from the model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -189,7 +217,26 @@ pub fn nodal_modes(s: &Scenario) -> Result<Option<(ModeSet, &ModalOptions, Strin
 }
 
 /// Build the bridge of a scenario.
+/// The bridge's modes as the scenario keeps them: the `bridge.modes` lowest, then those
+/// [`crate::scenario::ModesRule`] keeps.
 pub fn build_bridge(s: &Scenario) -> Result<ModalBridge, InputError> {
+    let all = build_all_modes(s)?;
+    if s.modes_rule == crate::scenario::ModesRule::All {
+        return Ok(all);
+    }
+    let f = &all.frequencies_hz;
+    let ascending = f.windows(2).all(|w| w[0] <= w[1]);
+    let (considered, _) = tbi_dynamics::en1991::modes_considered(f);
+    if !ascending || considered >= all.n_modes() {
+        return Ok(all);
+    }
+    let mut fewer = s.clone();
+    fewer.bridge.set_modes(considered);
+    build_all_modes(&fewer)
+}
+
+/// The `bridge.modes` lowest modes of the scenario's bridge.
+fn build_all_modes(s: &Scenario) -> Result<ModalBridge, InputError> {
     let Some((set, o, source)) = nodal_modes(s)? else {
         let Bridge::SimplySupported(b) = &s.bridge else {
             unreachable!("nodal_modes covers the other kinds")

@@ -109,7 +109,7 @@ pub fn main(args: ModesArgs) -> Result<(), Box<dyn std::error::Error>> {
     );
     std::fs::write(args.out.join("modes.md"), &t)?;
     plot_shapes(&args.out.join("mode_shapes.svg"), &set, 6)?;
-    println!("{t}");
+    crate::say!("{t}");
     eprintln!(
         "tbi: modes.csv, modes.md and mode_shapes.svg in {}",
         args.out.display()

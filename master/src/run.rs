@@ -61,11 +61,15 @@ pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         Limits::default()
     };
     let summary = run_scenario(&scenario, &out, !args.quiet, &limits)?;
+    let (text, passed) = crate::summary::text(&summary, &out);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        crate::say!("{}", serde_json::to_string_pretty(&summary)?);
         eprintln!("tbi: results in {}", out.display());
     } else {
-        println!("{}", crate::summary::text(&summary, &out));
+        crate::say!("{text}");
+    }
+    if !passed {
+        crate::console::check_failed();
     }
     Ok(())
 }
@@ -173,6 +177,51 @@ pub fn run_scenario(
             .into())
         }
     }
+}
+
+/// Run a scenario for its maxima alone (a case of a sweep): no folder, no `history.csv`,
+/// no plots; the summary as [`run_scenario`] would write it (the maxima take every step, so
+/// they equal those of a run with files). The run's steps and memory are checked against
+/// `limits`. Co-simulation needs a folder for its FMUs: it runs in a temporary one that is
+/// removed afterwards.
+pub fn run_maxima(
+    scenario: &Scenario,
+    limits: &Limits,
+) -> Result<Summary, Box<dyn std::error::Error>> {
+    let model = build(scenario)?;
+    let mut estimate = model.estimate();
+    estimate.history_bytes = 0.0;
+    limits.check(scenario, &estimate)?;
+    let mut rec = Recorder::new(
+        layout(&model),
+        &model.probes.iter().map(|p| p.1).collect::<Vec<_>>(),
+        None::<std::io::Sink>,
+    )?;
+    let _in_flight = InFlight::enter();
+    let start = Instant::now();
+    let mut steps_ahead = None;
+    let coupling = match scenario.run.solver {
+        SolverKind::Monolithic => {
+            steps_ahead = Some(run_monolithic(&model, &mut rec, false)?);
+            None
+        }
+        SolverKind::Cosim => {
+            let tmp = crate::outdir::TempDir::new("tbi-case")?;
+            Some(crate::cosim::run_cosim(
+                &scenario.coupling,
+                &model,
+                &tmp.path().join("fmus"),
+                &mut rec,
+                false,
+            )?)
+        }
+    };
+    let wall = start.elapsed().as_secs_f64();
+    rec.finish()?;
+    let mut summary = Summary::new(scenario, &model, &rec, wall);
+    summary.steps_ahead = steps_ahead;
+    summary.coupling = coupling;
+    Ok(summary)
 }
 
 /// The runs in progress in this process ([`run_scenario`]).

@@ -66,6 +66,41 @@ use tbi_track::{HuntingParams, IrregularitySpec};
 /// The embedded default scenario: the paper's Tsing Ma case.
 pub const DEFAULT_SCENARIO: &str = include_str!("../scenarios/tsing-ma.toml");
 
+/// The scenarios `tbi scenario show NAME` prints: the default and the repository's
+/// `examples/`, embedded so that a user starts from them in any folder.
+pub mod examples {
+    /// (name, what it is, TOML).
+    pub const EXAMPLES: [(&str, &str, &str); 2] = [
+        (
+            "tsing-ma",
+            "the paper's Tsing Ma case: 8 coaches at 70 km/h over the suspension bridge (the default)",
+            super::DEFAULT_SCENARIO,
+        ),
+        (
+            "psc-25m-hslm",
+            "a 25 m prestressed-concrete span on a 300 km/h line for the EN 1991-2 HSLM-A check",
+            include_str!("../../examples/psc-25m-hslm.toml"),
+        ),
+    ];
+
+    /// The TOML of the example `name` (None: the default), or an error naming the
+    /// examples.
+    pub fn text(name: Option<&str>) -> Result<&'static str, Box<dyn std::error::Error>> {
+        let name = name.unwrap_or("tsing-ma");
+        EXAMPLES
+            .iter()
+            .find(|e| e.0 == name)
+            .map(|e| e.2)
+            .ok_or_else(|| {
+                format!(
+                    "tbi scenario show {name}: no such example; the examples are {}",
+                    EXAMPLES.map(|e| e.0).join(", ")
+                )
+                .into()
+            })
+    }
+}
+
 /// Limits on scenario values (documented in README.md, "Limits"). Values outside them are
 /// not physically meaningful for a railway bridge or would exhaust the machine.
 pub mod limits {
@@ -105,6 +140,8 @@ pub struct Scenario {
     pub bridge: Bridge,
     /// The damping rule the bridge's damping ratio came from, if the scenario chose one.
     pub damping_rule: Option<DampingRule>,
+    /// `bridge.modes_rule`: which of the `bridge.modes` computed the run keeps.
+    pub modes_rule: ModesRule,
     pub train: Train,
     /// Track irregularity (paths relative to `base_dir`).
     pub track: IrregularitySpec,
@@ -258,6 +295,30 @@ pub struct DampingRule {
     pub additional_percent: f64,
     /// The damping ratio used, –.
     pub ratio: f64,
+}
+
+/// `bridge.modes_rule`: which of the `bridge.modes` lowest modes a run keeps.
+///
+/// `"en1990"` keeps those up to max(30 Hz, 1.5 f₁, f₃), the frequencies EN 1990
+/// A2.4.4.2.1 considers for the deck acceleration check (all of them when they are not in
+/// ascending order); `"all"` keeps every one. Default: `"en1990"` for the EN 1991-2 trains
+/// (`train.kind = "hslm_a"` or `"hslm_b"`), `"all"` for every other kind. `tbi run`,
+/// `tbi sweep --trains` and the FMUs apply it alike, and `summary.json` reports it with the
+/// modes kept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModesRule {
+    En1990,
+    All,
+}
+
+impl ModesRule {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ModesRule::En1990 => "en1990",
+            ModesRule::All => "all",
+        }
+    }
 }
 
 /// Which solver runs the scenario.
@@ -506,6 +567,7 @@ impl Scenario {
         c.name(&file.name)?;
         let run = c.run(&file.run)?;
         let damping_rule = c.damping_rule(&file.bridge)?;
+        let modes_rule = c.modes_rule(&file.bridge, &file.train)?;
         let bridge = c.bridge(&file.bridge, damping_rule.as_ref(), base_dir)?;
         let train = c.train(&file.train, base_dir)?;
         c.probes(&file.probes)?;
@@ -521,6 +583,7 @@ impl Scenario {
             run,
             bridge,
             damping_rule,
+            modes_rule,
             train,
             track: file.track.irregularity,
             probes: file.probes,
@@ -621,6 +684,8 @@ struct FileBridge {
     damping_ratio: f64,
     damping_ratio_torsional: Option<f64>,
     damping: Option<FileDamping>,
+    /// `"en1990"` or `"all"` ([`ModesRule`]); default by the train's kind.
+    modes_rule: Option<String>,
     track_eccentricity_m: Option<f64>,
     track_height_m: Option<f64>,
     // simply supported
@@ -813,6 +878,21 @@ impl Check<'_> {
             start_x_m: r.start_x_m,
             output_every: r.output_every,
         })
+    }
+
+    /// `bridge.modes_rule`, or its default for the train's kind.
+    fn modes_rule(&self, b: &FileBridge, t: &FileTrain) -> Result<ModesRule, InputError> {
+        match b.modes_rule.as_deref() {
+            None if matches!(t.kind.as_str(), "hslm_a" | "hslm_b") => Ok(ModesRule::En1990),
+            None => Ok(ModesRule::All),
+            Some("en1990") => Ok(ModesRule::En1990),
+            Some("all") => Ok(ModesRule::All),
+            Some(other) => Err(self.err(
+                "bridge.modes_rule",
+                format!("\"{other}\""),
+                "expected \"en1990\" (the modes up to max(30 Hz, 1.5 f₁, f₃), EN 1990 A2.4.4.2.1) or \"all\"",
+            )),
+        }
     }
 
     /// `bridge.damping`, checked and evaluated for the span.

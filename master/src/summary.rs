@@ -35,8 +35,13 @@ pub struct Summary {
     pub train: TrainSummary,
     /// Per probe, by name.
     pub probes: BTreeMap<String, ProbeMax>,
-    pub vehicles: VehicleMax,
-    pub safety: SafetyMax,
+    /// Car-body maxima and Sperling indices: only when a vehicle has a car body (not for
+    /// moving forces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vehicles: Option<VehicleMax>,
+    /// Wheel–rail safety maxima: only when the wheel loads vary (not for moving forces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub safety: Option<SafetyMax>,
     /// Co-simulation only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coupling: Option<CouplingSummary>,
@@ -46,6 +51,9 @@ pub struct Summary {
 pub struct BridgeSummary {
     pub kind: String,
     pub modes: usize,
+    /// `bridge.modes_rule`: `"en1990"` (the modes up to max(30 Hz, 1.5 f₁, f₃)) or `"all"`.
+    #[serde(default = "default_modes_rule")]
+    pub modes_rule: String,
     pub frequencies_hz: Vec<f64>,
     pub labels: Vec<String>,
     pub length_m: f64,
@@ -55,6 +63,10 @@ pub struct BridgeSummary {
     /// The mean wind on the deck, when the scenario has one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wind: Option<WindSummary>,
+}
+
+fn default_modes_rule() -> String {
+    "all".into()
 }
 
 /// The mean wind of a run and the steady deck load it gave.
@@ -125,6 +137,7 @@ impl Summary {
             bridge: BridgeSummary {
                 kind: s.bridge.kind().into(),
                 modes: model.bridge.n_modes(),
+                modes_rule: s.modes_rule.as_str().into(),
                 frequencies_hz: model.bridge.frequencies_hz.clone(),
                 labels: model.bridge.labels.clone(),
                 length_m: model.bridge.length_m(),
@@ -149,8 +162,17 @@ impl Summary {
                 .zip(&rec.probes)
                 .map(|((name, _), m)| (name.clone(), m.clone()))
                 .collect(),
-            vehicles: rec.vehicles.clone(),
-            safety: rec.safety.clone(),
+            vehicles: rec
+                .layout
+                .vehicles
+                .iter()
+                .any(|[lateral, vertical]| *lateral || *vertical)
+                .then(|| rec.vehicles.clone()),
+            safety: (!matches!(
+                s.train.spec,
+                tbi_dynamics::interface::TrainSpec::MovingForce(_)
+            ))
+            .then(|| rec.safety.clone()),
             coupling: None,
             steps_ahead: None,
         }
@@ -169,17 +191,19 @@ impl Summary {
     }
 }
 
-/// The few lines `tbi run` prints for a person: the case, the run, the governing maxima in
-/// readable units against their limits with PASS/FAIL, and where the files are.
+/// The few lines `tbi run` prints for a person: the case, the run, the governing maxima
+/// (displacements in mm, accelerations in m/s², as in `tbi sweep --trains`' outputs) against
+/// their limits with PASS/FAIL, and where the files are; and whether every check passed.
 ///
 /// Limits: deck vertical acceleration 3.5 m/s² (EN 1990 A2.4.4.2.1, ballasted track);
 /// car-body vertical acceleration against the comfort levels of EN 1990 Table A2.9 (1.0 very
 /// good, 1.3 good, 2.0 m/s² acceptable); derail factor 0.8 and offload factor 0.6 (the
 /// paper's Chinese code limits); Sperling W < 2.5 excellent, < 2.75 good, < 3.0 acceptable.
-pub fn text(s: &Summary, out: &Path) -> String {
+pub fn text(s: &Summary, out: &Path) -> (String, bool) {
     use std::fmt::Write as _;
     let pass = |ok: bool| if ok { "PASS" } else { "FAIL" };
     let mut t = String::new();
+    let mut checks: Vec<bool> = Vec::new();
     let _ = writeln!(
         t,
         "{}: {} at {} km/h, {} steps ({:.3} s simulated) in {:.2} s wall{}",
@@ -215,6 +239,13 @@ pub fn text(s: &Summary, out: &Path) -> String {
             }
         );
     }
+    let _ = writeln!(
+        t,
+        "  bridge: {} modes up to {:.1} Hz (modes_rule = \"{}\")",
+        s.bridge.modes,
+        s.bridge.frequencies_hz.iter().copied().fold(0.0, f64::max),
+        s.bridge.modes_rule
+    );
     let probe_max = |f: fn(&ProbeMax) -> f64| {
         s.probes
             .iter()
@@ -225,11 +256,11 @@ pub fn text(s: &Summary, out: &Path) -> String {
         probe_max(|p| p.vertical_displacement_max_m),
         probe_max(|p| p.vertical_acceleration_max_m_s2),
     ) {
+        checks.push(a <= 3.5);
         let _ = writeln!(
             t,
-            "  deck: vertical displacement {:.3} cm ({nz}); vertical acceleration {:.2} cm/s² ({na}), limit 350 cm/s² (EN 1990, ballasted): {}",
-            100.0 * z,
-            100.0 * a,
+            "  deck: vertical displacement {:.3} mm ({nz}); vertical acceleration {a:.4} m/s² ({na}), limit 3.5 m/s² (EN 1990 A2.4.4.2.1, ballasted): {}",
+            1000.0 * z,
             pass(a <= 3.5)
         );
     }
@@ -237,54 +268,71 @@ pub fn text(s: &Summary, out: &Path) -> String {
         probe_max(|p| p.lateral_displacement_max_m),
         probe_max(|p| p.lateral_acceleration_max_m_s2),
     ) {
-        let _ = writeln!(
-            t,
-            "        lateral displacement {:.3} mm ({ny}); lateral acceleration {:.2} cm/s² ({nl})",
-            1000.0 * y,
-            100.0 * l
-        );
+        if y > 0.0 || l > 0.0 {
+            let _ = writeln!(
+                t,
+                "        lateral displacement {:.3} mm ({ny}); lateral acceleration {l:.4} m/s² ({nl})",
+                1000.0 * y,
+            );
+        }
     }
-    let v = &s.vehicles;
-    let bv = v.vertical_acceleration_max_m_s2;
-    let comfort = if bv <= 1.0 {
-        "very good"
-    } else if bv <= 1.3 {
-        "good"
-    } else if bv <= 2.0 {
-        "acceptable"
-    } else {
-        "beyond acceptable"
-    };
-    let sperling = v
-        .sperling_vertical
-        .iter()
-        .flatten()
-        .copied()
-        .fold(f64::NEG_INFINITY, f64::max);
-    if v.sperling_vertical.iter().all(Option::is_none) && bv == 0.0 {
-        let _ = writeln!(t, "  car bodies: none modelled (moving forces)");
-    } else {
-        let _ = writeln!(
-            t,
-            "  car bodies: vertical acceleration {:.1} cm/s² (EN 1990 Table A2.9: {comfort}); lateral {:.1} cm/s²{}",
-            100.0 * bv,
-            100.0 * v.lateral_acceleration_max_m_s2,
-            if sperling.is_finite() {
-                format!("; Sperling W (vertical) up to {sperling:.2}")
+    match &s.vehicles {
+        None => {
+            let _ = writeln!(t, "  car bodies: none modelled (moving forces)");
+        }
+        Some(v) => {
+            let bv = v.vertical_acceleration_max_m_s2;
+            let comfort = if bv <= 1.0 {
+                "very good"
+            } else if bv <= 1.3 {
+                "good"
+            } else if bv <= 2.0 {
+                "acceptable"
             } else {
-                String::new()
-            }
-        );
+                "beyond acceptable"
+            };
+            let sperling = v
+                .sperling_vertical
+                .iter()
+                .flatten()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max);
+            let _ = writeln!(
+                t,
+                "  car bodies: vertical acceleration {bv:.4} m/s² (EN 1990 Table A2.9: {comfort}); lateral {:.4} m/s²{}",
+                v.lateral_acceleration_max_m_s2,
+                if sperling.is_finite() {
+                    format!("; Sperling W (vertical) up to {sperling:.2}")
+                } else {
+                    String::new()
+                }
+            );
+        }
     }
-    let f = &s.safety;
-    let _ = writeln!(
-        t,
-        "  safety: derail factor {:.3} (limit 0.8: {}), offload factor {:.3} (limit 0.6: {})",
-        f.derail_factor_max,
-        pass(f.derail_factor_max <= 0.8),
-        f.offload_factor_max,
-        pass(f.offload_factor_max <= 0.6)
-    );
+    if let Some(f) = &s.safety {
+        let lateral = s
+            .vehicles
+            .as_ref()
+            .is_some_and(|v| v.sperling_lateral.iter().any(Option::is_some))
+            || f.lateral_force_max_n > 0.0;
+        checks.push(f.offload_factor_max <= 0.6);
+        let offload = format!(
+            "offload factor {:.3} (limit 0.6: {})",
+            f.offload_factor_max,
+            pass(f.offload_factor_max <= 0.6)
+        );
+        if lateral {
+            checks.push(f.derail_factor_max <= 0.8);
+            let _ = writeln!(
+                t,
+                "  safety: derail factor {:.3} (limit 0.8: {}), {offload}",
+                f.derail_factor_max,
+                pass(f.derail_factor_max <= 0.8),
+            );
+        } else {
+            let _ = writeln!(t, "  safety: {offload} (no lateral wheel forces modelled)");
+        }
+    }
     if let Some(c) = &s.coupling {
         let _ = writeln!(
             t,
@@ -304,5 +352,5 @@ pub fn text(s: &Summary, out: &Path) -> String {
         "  files: {} (summary.json, history.csv, plots)",
         out.display()
     );
-    t
+    (t, checks.iter().all(|&ok| ok))
 }

@@ -37,10 +37,22 @@ pub struct SweepArgs {
     /// `very-good` (1.0 m/s²), `good` (1.3 m/s²) or `acceptable` (2.0 m/s²).
     #[arg(long, default_value = "very-good")]
     pub comfort: String,
-    /// With `--trains`: keep every mode of the bridge, not only those up to
-    /// max(30 Hz, 1.5 f₁, f₃) that EN 1990 A2.4.4.2.1 considers.
+    /// With `--trains`: keep every mode of the bridge (`bridge.modes_rule = "all"` in every
+    /// case), not only those up to max(30 Hz, 1.5 f₁, f₃) that EN 1990 A2.4.4.2.1 considers.
     #[arg(long)]
     pub all_modes: bool,
+    /// With `--trains`: write `history.csv` and plots for every case, not only for each
+    /// train's case of largest deck acceleration and each check's governing case.
+    #[arg(long)]
+    pub keep_histories: bool,
+    /// With `--trains`: LM71's classification factor α (EN 1991-2 §6.3.2(3)): 0.75, 0.83,
+    /// 0.91, 1.00, 1.10, 1.21, 1.33 or 1.46.
+    #[arg(long, default_value_t = 1.0)]
+    pub alpha: f64,
+    /// With `--trains`: track maintenance for the LM71 comparison: `careful` (Φ₂ and φ''/2)
+    /// or `standard` (Φ₃ and φ''), EN 1991-2 §6.4.5.2.
+    #[arg(long, default_value = "careful")]
+    pub maintenance: String,
     /// Mean wind speeds, m/s (a list or `start:stop:step`): every train speed in every wind;
     /// `wind_curve.csv` gives per train speed the largest wind that keeps the wheel unloading
     /// ΔQ/Q₀ within `--wheel-unloading-limit` (the characteristic wind curve).
@@ -55,7 +67,8 @@ pub struct SweepArgs {
     /// Output folder: table.md, table.csv and one run folder per speed.
     #[arg(long, default_value = "tbi-out/sweep")]
     pub out: PathBuf,
-    /// Run even when a case's estimated cost passes the limits (see `tbi run`).
+    /// Run even when a case's estimated cost, or a design check's estimated disk use,
+    /// passes the limits (see `tbi run`).
     #[arg(long)]
     pub allow_large: bool,
 }
@@ -106,25 +119,33 @@ pub const TABLE2: [Row; 8] = [
         name: "Vehicle vertical acceleration",
         unit: "cm/s²",
         paper: [12.96, 31.85, 48.29, 74.31],
-        value: |s| 100.0 * s.vehicles.vertical_acceleration_max_m_s2,
+        value: |s| {
+            s.vehicles
+                .as_ref()
+                .map_or(f64::NAN, |v| 100.0 * v.vertical_acceleration_max_m_s2)
+        },
     },
     Row {
         name: "Vehicle lateral acceleration",
         unit: "cm/s²",
         paper: [19.01, 38.19, 40.05, 51.92],
-        value: |s| 100.0 * s.vehicles.lateral_acceleration_max_m_s2,
+        value: |s| {
+            s.vehicles
+                .as_ref()
+                .map_or(f64::NAN, |v| 100.0 * v.lateral_acceleration_max_m_s2)
+        },
     },
     Row {
         name: "Derail factor",
         unit: "Q/P",
         paper: [0.247, 0.287, 0.306, 0.413],
-        value: |s| s.safety.derail_factor_max,
+        value: |s| s.safety.as_ref().map_or(f64::NAN, |f| f.derail_factor_max),
     },
     Row {
         name: "Offload factor",
         unit: "ΔP/P",
         paper: [0.380, 0.381, 0.393, 0.410],
-        value: |s| s.safety.offload_factor_max,
+        value: |s| s.safety.as_ref().map_or(f64::NAN, |f| f.offload_factor_max),
     },
 ];
 
@@ -202,7 +223,7 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
         }
     };
     if !args.trains.is_empty() {
-        return crate::envelope::main(&args, &base, &speeds);
+        return crate::design::main(&args, &speeds);
     }
     if !args.wind_speeds.is_empty() {
         return crate::wind_curve::main(&args, &base, &speeds);
@@ -236,7 +257,7 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
     let (md, csv) = tables(&speeds, &summaries);
     std::fs::write(args.out.join("table.md"), &md)?;
     std::fs::write(args.out.join("table.csv"), &csv)?;
-    println!("{md}");
+    crate::say!("{md}");
     eprintln!(
         "tbi: table.md, table.csv and the runs in {}",
         args.out.display()

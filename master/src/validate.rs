@@ -142,17 +142,19 @@ pub fn main(args: ValidateArgs) -> Result<(), Box<dyn std::error::Error>> {
         .filter_map(|g| largest(&|d| group_of(&d.column, &probes) == g).map(|w| (g, w)))
         .collect();
     let worst = largest(&|_| true).ok_or("the histories have no columns to compare")?;
-    println!(
+    crate::say!(
         "{}: co-simulation ({}, {}) against the monolithic solver",
         s.name,
         s.coupling.scheme.as_str(),
         s.coupling.acceleration.as_str()
     );
-    println!("| group | worst column | relative difference | at t (s) |\n|---|---|---:|---:|");
+    crate::say!("| group | worst column | relative difference | at t (s) |\n|---|---|---:|---:|");
     for (g, d) in &groups {
-        println!(
+        crate::say!(
             "| {g} | {} | {:.3e} | {:.4} |",
-            d.column, d.relative, d.time_s
+            d.column,
+            d.relative,
+            d.time_s
         );
     }
     let passed = args.tolerance.is_none_or(|t| worst.relative <= t);

@@ -500,8 +500,8 @@ fn cli_issue_example_runs_and_writes_required_outputs() {
             .contains("yang-yau: monolithic at 100 km/h, 3800 steps")
             && r.stdout.contains("deck: vertical displacement")
             && r.stdout
-                .contains("limit 350 cm/s² (EN 1990, ballasted): PASS")
-            && r.stdout.contains("safety: derail factor"),
+                .contains("limit 3.5 m/s² (EN 1990 A2.4.4.2.1, ballasted): PASS")
+            && r.stdout.contains("safety: offload factor"),
         "{}",
         r.stdout
     );
@@ -510,7 +510,7 @@ fn cli_issue_example_runs_and_writes_required_outputs() {
         .unwrap();
     assert!(r
         .stdout
-        .contains(&format!("vertical displacement {:.3} cm (mid)", 100.0 * z)));
+        .contains(&format!("vertical displacement {:.3} mm (mid)", 1000.0 * z)));
     let j = run(
         &data("yang-yau.toml"),
         "monolithic",

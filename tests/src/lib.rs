@@ -73,6 +73,20 @@ pub fn run_ok(cmd: &mut Command) -> Output {
     out
 }
 
+/// Run `cmd` and require it to finish its work: exit code 0 (every check passes) or 3 (a
+/// design or limit check FAILs, `tbi`'s documented code for it); the output and the code.
+pub fn run_checked(cmd: &mut Command) -> Output {
+    let out = run(cmd);
+    assert!(
+        matches!(out.status.code(), Some(0 | 3)),
+        "{cmd:?} failed ({})\n--- stdout\n{}\n--- stderr\n{}",
+        out.status,
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    out
+}
+
 /// A command running the `tbi` executable.
 pub fn tbi_command() -> Command {
     Command::new(tbi())

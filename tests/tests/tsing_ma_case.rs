@@ -60,7 +60,11 @@ fn table2_deck_displacement_and_safety() {
             "deck displacement does not grow with speed at {v} km/h"
         );
         last = ours;
-        let (derail, offload) = (s.safety.derail_factor_max, s.safety.offload_factor_max);
+        let safety = s
+            .safety
+            .as_ref()
+            .expect("coaches have wheel-rail safety maxima");
+        let (derail, offload) = (safety.derail_factor_max, safety.offload_factor_max);
         assert!(
             derail > 0.0 && derail < 0.8,
             "{v} km/h: derail factor {derail}"
