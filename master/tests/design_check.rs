@@ -124,7 +124,14 @@ fn a_1130_case_check_fits_on_a_disk_and_its_governing_cases_reproduce() {
         (0.5..=2.0).contains(&ratio),
         "estimate {estimate} vs {written}"
     );
-    // one truth per number
+    // one truth per number: the governing rows name their checks
+    for check in ["deck-acceleration", "deck-displacement"] {
+        let named: Vec<_> = rows
+            .iter()
+            .filter(|r| r["governing"].split(';').any(|c| c == check))
+            .collect();
+        assert_eq!(named.len(), 1, "{check}");
+    }
     let largest = |key: &str| {
         rows.iter()
             .map(|r| num(r, key))

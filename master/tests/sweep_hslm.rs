@@ -51,7 +51,7 @@ fn scenario(dir: &Path, text: &str) -> PathBuf {
 /// asked for (not the resonance speeds and refinements the check adds).
 type Row = (String, f64, f64, f64, f64, f64, Option<f64>);
 
-const ENVELOPE_HEADER: &str = "train,speed_kmh,point,deck_acceleration_max_m_s2,deck_displacement_max_mm,deck_static_displacement_max_mm,phi_dyn,car_body_acceleration_max_m_s2";
+const ENVELOPE_HEADER: &str = "train,speed_kmh,point,deck_acceleration_max_m_s2,deck_displacement_max_mm,deck_static_displacement_max_mm,phi_dyn,car_body_acceleration_max_m_s2,governing";
 
 /// Every row of envelope.csv with its point kind (`grid`, `resonance`, `refined`);
 /// displacements back in m.
@@ -62,7 +62,7 @@ fn envelope_all(path: &Path) -> Vec<(Row, String)> {
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 8, "{l}");
+            assert_eq!(f.len(), 9, "{l}");
             let n = |i: usize| f[i].parse::<f64>().unwrap();
             let body = (!f[7].is_empty()).then(|| n(7));
             (

@@ -261,7 +261,6 @@ pub fn check(
             .cmp(&trains.iter().position(|t| *t == b.train))
             .then(a.speed_kmh.total_cmp(&b.speed_kmh))
     });
-    crate::outdir::write_atomically(&out.join("envelope.csv"), envelope_csv(&rows).as_bytes())?;
     let quantities: Vec<Quantity> = [
         Quantity::DeckAcceleration,
         Quantity::DeckDisplacement,
@@ -271,6 +270,10 @@ pub fn check(
     .filter(|q| *q != Quantity::CarBodyAcceleration || o.comfort.is_some())
     .collect();
     let governing = write_governing(source, &rows, &quantities, out)?;
+    crate::outdir::write_atomically(
+        &out.join("envelope.csv"),
+        envelope_csv(&rows, &governing).as_bytes(),
+    )?;
     keep_runs(source, trains, &rows, &governing, o, out)?;
     let en = en::compare(&first, &bridge, trains, &rows, &o.en, &statics)?;
     Ok(Outcome {
@@ -379,23 +382,30 @@ fn refine_peaks(
     Ok(found.into_iter().flatten().collect())
 }
 
-/// `envelope.csv`: one row per case; displacements in mm, accelerations in m/s².
-fn envelope_csv(rows: &[Row]) -> String {
+/// `envelope.csv`: one row per case; displacements in mm, accelerations in m/s²; the
+/// last column names the checks a row governs (their `governing/<check>.toml`).
+fn envelope_csv(rows: &[Row], governing: &[(Quantity, usize, PathBuf)]) -> String {
     let mut csv = String::from(
-        "train,speed_kmh,point,deck_acceleration_max_m_s2,deck_displacement_max_mm,deck_static_displacement_max_mm,phi_dyn,car_body_acceleration_max_m_s2\n",
+        "train,speed_kmh,point,deck_acceleration_max_m_s2,deck_displacement_max_mm,deck_static_displacement_max_mm,phi_dyn,car_body_acceleration_max_m_s2,governing\n",
     );
-    for r in rows {
+    for (i, r) in rows.iter().enumerate() {
         let body = r.body.map(|b| format!("{b:e}")).unwrap_or_default();
+        let governs: Vec<&str> = governing
+            .iter()
+            .filter(|g| g.1 == i)
+            .map(|g| g.0.name())
+            .collect();
         let _ = writeln!(
             csv,
-            "{},{},{},{:e},{:e},{:e},{:e},{body}",
+            "{},{},{},{:e},{:e},{:e},{:e},{body},{}",
             r.train,
             r.speed_kmh,
             r.point.as_str(),
             r.acceleration,
             1000.0 * r.displacement,
             1000.0 * r.static_displacement,
-            r.phi
+            r.phi,
+            governs.join(";")
         );
     }
     csv

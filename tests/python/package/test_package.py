@@ -47,7 +47,8 @@ def test_there_are_test_scenarios():
 @pytest.mark.parametrize("solver", ["monolithic", "cosim"])
 def test_run_equals_the_command_line(tmp_path, scenario, solver):
     done = cli("run", scenario, "--solver", solver, "--quiet", "--out", tmp_path / "cli")
-    assert done.returncode == 0, done.stderr
+    # 3: the run finished and a limit check of its summary FAILs (stiff-20m's deck)
+    assert done.returncode in (0, 3), done.stderr
     r = tbi.run(scenario, solver=solver, out=tmp_path / "py")
     with open(tmp_path / "cli" / "summary.json", encoding="utf-8") as f:
         expected = json.load(f)
