@@ -111,24 +111,27 @@ pub fn check_instantiates(fmu: &Path) -> Result<(), String> {
 /// The FMUs' shared objects.
 pub const LIBRARIES: [&str; 3] = ["libbridge.so", "libtrain.so", "libwind.so"];
 
-/// Folders searched for the FMU libraries before the others (the Python
-/// package's own copy, and the checkout it was built from).
+/// The folders holding the FMU libraries in a program that embeds the tool (the Python
+/// package's own copy).
 static LIBRARY_DIRS: std::sync::OnceLock<Vec<PathBuf>> = std::sync::OnceLock::new();
 
-/// Search these folders first for the FMU libraries (set once, by an embedding program).
+/// Search these folders for the FMU libraries instead of the executable's (set once, by an
+/// embedding program: the executable is then not the tool's).
 pub fn set_library_dirs(dirs: Vec<PathBuf>) {
     let _ = LIBRARY_DIRS.set(dirs);
 }
 
-/// Directory holding `libbridge.so`, `libtrain.so` and `libwind.so`: `TBI_FMU_LIB_DIR`, the folders of
-/// [`set_library_dirs`], then the executable's folder and its parent.
+/// Directory holding `libbridge.so`, `libtrain.so` and `libwind.so`: `TBI_FMU_LIB_DIR`, then
+/// the folders of [`set_library_dirs`] when an embedding program set them, else the
+/// executable's folder and its parent.
 pub fn library_dir() -> Result<PathBuf, String> {
     let mut candidates = Vec::new();
     if let Ok(d) = std::env::var("TBI_FMU_LIB_DIR") {
         candidates.push(PathBuf::from(d));
     }
-    candidates.extend(LIBRARY_DIRS.get().into_iter().flatten().cloned());
-    if let Ok(exe) = std::env::current_exe() {
+    if let Some(dirs) = LIBRARY_DIRS.get() {
+        candidates.extend(dirs.iter().cloned());
+    } else if let Ok(exe) = std::env::current_exe() {
         if let Some(dir) = exe.parent() {
             candidates.push(dir.to_path_buf());
             if let Some(up) = dir.parent() {

@@ -561,7 +561,7 @@ impl Scenario {
                 .span()
                 .map(|sp| text[..sp.start.min(text.len())].matches('\n').count() + 1)
                 .unwrap_or(0);
-            InputError::line(origin, line, e.message().to_string())
+            InputError::line(origin, line, with_suggestion(e.message()))
         })?;
         let c = Check { origin };
         c.name(&file.name)?;
@@ -759,6 +759,31 @@ struct FileTrain {
 struct FileTrack {
     #[serde(default)]
     irregularity: IrregularitySpec,
+}
+
+/// serde's "unknown field `x`, expected one of `a`, `b`" (or "unknown variant") with the
+/// closest expected name: "…; did you mean `a`?" (normalised Damerau–Levenshtein
+/// similarity of at least 0.5).
+pub fn with_suggestion(message: &str) -> String {
+    let unknown = ["unknown field `", "unknown variant `"]
+        .iter()
+        .find_map(|p| message.strip_prefix(p))
+        .and_then(|rest| rest.split('`').next());
+    let Some(unknown) = unknown else {
+        return message.to_string();
+    };
+    let expected: Vec<&str> = message
+        .split_once("expected")
+        .map(|(_, list)| list.split('`').skip(1).step_by(2).collect())
+        .unwrap_or_default();
+    let best = expected
+        .iter()
+        .map(|e| (strsim::normalized_damerau_levenshtein(unknown, e), *e))
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    match best {
+        Some((score, name)) if score >= 0.5 => format!("{message}; did you mean `{name}`?"),
+        _ => message.to_string(),
+    }
 }
 
 /// A table on one line, `{ key = value, ... }`, for messages.

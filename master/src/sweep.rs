@@ -205,9 +205,13 @@ pub fn parse_range(items: &[String], flag: &str, unit: &str) -> Result<Vec<f64>,
     Ok(speeds)
 }
 
-pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let base = crate::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)?;
-    let speeds = match (args.speeds.is_empty(), args.trains.is_empty()) {
+/// The speeds of a sweep: `--speeds`, or by default the paper's four, or with `--trains`
+/// EN 1991-2 §6.4.6's 40 m/s (144 km/h) to 1.2 × the scenario's speed in 2.5 km/h steps.
+pub fn speeds(
+    args: &SweepArgs,
+    base: &crate::scenario::Scenario,
+) -> Result<Vec<f64>, Box<dyn std::error::Error>> {
+    Ok(match (args.speeds.is_empty(), args.trains.is_empty()) {
         (false, _) => parse_speeds(&args.speeds)?,
         (true, true) => PAPER_SPEEDS.to_vec(),
         (true, false) => {
@@ -221,7 +225,12 @@ pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
             }
             parse_speeds(&[format!("144:{top}:2.5")])?
         }
-    };
+    })
+}
+
+pub fn main(args: SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let base = crate::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)?;
+    let speeds = speeds(&args, &base)?;
     if !args.trains.is_empty() {
         return crate::design::main(&args, &speeds);
     }

@@ -7,7 +7,7 @@
 //! does) or `SimulationError` (anything else: a run that failed, an unwritable folder).
 
 use pyo3::create_exception;
-use pyo3::exceptions::PyException;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use tbi::scenario::{Scenario, SolverKind};
@@ -16,14 +16,14 @@ use tbi_dynamics::InputError;
 create_exception!(
     _native,
     ScenarioError,
-    PyException,
-    "A scenario refused: the message names the file, the field and the value."
+    PyValueError,
+    "A scenario refused (a ValueError): the message names the file, the field and the value."
 );
 create_exception!(
     _native,
     SimulationError,
-    PyException,
-    "A run, an export or a modal analysis that failed."
+    PyRuntimeError,
+    "A run, an export or a modal analysis that failed (a RuntimeError)."
 );
 
 /// Why a call failed, before it becomes a Python exception (made with the GIL held).
@@ -41,10 +41,13 @@ impl From<Failure> for PyErr {
     }
 }
 
-/// A boxed error as a [`Failure`]: scenario errors by their type, the rest as simulation.
+/// A boxed error as a [`Failure`]: scenario errors by their type, and an option refused
+/// (its message names the option, `--trains A11: …`), as scenario errors; the rest as
+/// simulation.
 fn classify(e: Box<dyn std::error::Error>) -> Failure {
     match e.downcast_ref::<InputError>() {
         Some(i) => Failure::Scenario(i.to_string()),
+        None if e.to_string().starts_with("--") => Failure::Scenario(e.to_string()),
         None => Failure::Simulation(e.to_string()),
     }
 }
@@ -101,6 +104,53 @@ fn run(
             .map_err(classify)
     })?;
     Ok(())
+}
+
+/// The EN 1991-2 design check of the scenario file `path` (None: the embedded default) into
+/// `out`, as `tbi sweep PATH --trains … --out OUT`: `envelope.csv`, `summary.txt`,
+/// `report.html`, `governing/`. Returns whether every check passed and the summary's text.
+#[pyfunction]
+#[pyo3(signature = (out, trains, path=None, speeds=Vec::new(), track="ballasted", comfort="very-good", alpha=1.0, maintenance="careful", solver=None, all_modes=false, keep_histories=false, allow_large=false))]
+#[allow(clippy::too_many_arguments)]
+fn design_check(
+    py: Python<'_>,
+    out: String,
+    trains: Vec<String>,
+    path: Option<String>,
+    speeds: Vec<String>,
+    track: &str,
+    comfort: &str,
+    alpha: f64,
+    maintenance: &str,
+    solver: Option<String>,
+    all_modes: bool,
+    keep_histories: bool,
+    allow_large: bool,
+) -> PyResult<(bool, String)> {
+    let args = tbi::sweep::SweepArgs {
+        scenario: path.map(PathBuf::from),
+        speeds,
+        trains,
+        track: track.into(),
+        comfort: comfort.into(),
+        all_modes,
+        keep_histories,
+        alpha,
+        maintenance: maintenance.into(),
+        wind_speeds: Vec::new(),
+        wheel_unloading_limit: 0.9,
+        solver,
+        out: PathBuf::from(out),
+        allow_large,
+    };
+    let done = py.allow_threads(move || -> Result<(bool, String), Failure> {
+        let base = tbi::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)
+            .map_err(Failure::Scenario)?;
+        let speeds = tbi::sweep::speeds(&args, &base).map_err(classify)?;
+        let done = tbi::design::run(&args, &speeds).map_err(classify)?;
+        Ok((done.passed, done.text))
+    })?;
+    Ok(done)
 }
 
 /// Export a scenario's FMUs and SSP into `out` (as `tbi export`); their paths.
@@ -201,21 +251,11 @@ fn toml_to_json(text: &str, origin: &str) -> PyResult<String> {
     serde_json::to_string(&value).map_err(|e| SimulationError::new_err(e.to_string()))
 }
 
-/// Folders searched first for the FMU libraries `libbridge.so`, `libtrain.so`, `libwind.so` that
-/// co-simulation and export pack into FMUs (the package's own copy; set once).
+/// The folders holding the FMU libraries `libbridge.so`, `libtrain.so`, `libwind.so` that
+/// co-simulation and export pack into FMUs: the package's own copy (`tbi/_lib`; set once).
 #[pyfunction]
 fn set_library_dirs(dirs: Vec<String>) {
     tbi::export::set_library_dirs(dirs.into_iter().map(PathBuf::from).collect());
-}
-
-/// The release folder of the checkout this module was built from (where
-/// `cargo build --release` puts the FMU libraries).
-#[pyfunction]
-fn build_library_dir() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../target/release")
-        .display()
-        .to_string()
 }
 
 #[pymodule]
@@ -230,6 +270,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(toml_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(toml_to_json, m)?)?;
     m.add_function(wrap_pyfunction!(set_library_dirs, m)?)?;
-    m.add_function(wrap_pyfunction!(build_library_dir, m)?)?;
+    m.add_function(wrap_pyfunction!(design_check, m)?)?;
     Ok(())
 }

@@ -40,11 +40,9 @@ __all__ = [
     "sweep",
 ]
 
-# The FMU libraries co-simulation and export pack into FMUs: the package's own copy, then
-# the checkout it was built from.
-_native.set_library_dirs(
-    [str(Path(__file__).resolve().parent / "lib"), _native.build_library_dir()]
-)
+# The FMU libraries co-simulation and export pack into FMUs: the package's own copy, built
+# and shipped with the wheel (tbi/_lib).
+_native.set_library_dirs([str(Path(__file__).resolve().parent / "_lib")])
 
 
 def _source(scenario, base_dir=None):

@@ -4,8 +4,15 @@ tasks of a Dask cluster."""
 import copy
 import itertools
 import os
+import re
+import shutil
+import tempfile
 import uuid
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+# The most cases of one sweep (as the command line's --speeds ranges).
+MAX_CASES = 100_000
 
 # Summary keys of a row besides the varied values (probe maxima are `<probe>.<key>`).
 _VEHICLE_KEYS = ("vertical_acceleration_max_m_s2", "lateral_acceleration_max_m_s2")
@@ -74,7 +81,83 @@ def run_case(payload):
     return _row(values, summary)
 
 
-def sweep(base=None, vary=None, client=None, solver=None, retries=3, workers=None):
+def _check_vary(scenario, base_dir, vary, solver):
+    """Refuse a ``vary`` whose keys or values the scenario refuses, before any case runs:
+    every value of every key set on the scenario (the other keys at their first values) and
+    checked as a scenario file is (the message names the field, the value and the close
+    valid name)."""
+    from . import ScenarioError, _native, _source
+
+    firsts = {k: v[0] for k, v in vary.items() if v}
+    for key, values in vary.items():
+        for value in values:
+            case = copy.deepcopy(scenario)
+            for k, v in firsts.items():
+                _assign(case, k, value if k == key else v)
+            try:
+                _native.check(solver=solver, **_source(case, base_dir))
+            except ScenarioError as e:
+                # the line of the TOML made from the dict means nothing to the caller
+                message = re.sub(r"^<dict>(:\d+)?: ", "", str(e))
+                raise ScenarioError(f"vary: {key} = {value!r}: {message}") from None
+
+
+def _design_check(base, trains, speeds, out, solver, options):
+    """``tbi.sweep(trains=…)``: the design check, its ``envelope.csv`` as a DataFrame."""
+    import pandas as pd
+
+    from . import ScenarioError, _native, _source
+
+    if isinstance(trains, str):
+        trains = [trains]
+    if isinstance(speeds, str):
+        speeds = [speeds]
+    speeds = [str(v) for v in (speeds or [])]
+    work = Path(tempfile.mkdtemp(prefix="tbi-check-")) if out is None else Path(out)
+    try:
+        src = _source(base)
+        path = src.get("path")
+        if "text" in src:
+            # a dict or text: checked as a file beside the results
+            work.mkdir(parents=True, exist_ok=True)
+            path = work / "scenario.toml"
+            path.write_text(src["text"], encoding="utf-8")
+        passed, text = _native.design_check(
+            os.fspath(work),
+            list(trains),
+            path=None if path is None else os.fspath(path),
+            speeds=speeds,
+            solver=solver,
+            **options,
+        )
+        table = pd.read_csv(work / "envelope.csv", keep_default_na=False, na_values={
+            "car_body_acceleration_max_m_s2": [""],
+        })
+        table.attrs.update(passed=passed, summary=text, out=None if out is None else work)
+        return table
+    except TypeError as e:
+        raise ScenarioError(f"sweep: {e}") from None
+    finally:
+        if out is None:
+            shutil.rmtree(work, ignore_errors=True)
+
+
+def sweep(
+    base=None,
+    vary=None,
+    client=None,
+    solver=None,
+    retries=3,
+    workers=None,
+    *,
+    trains=None,
+    speeds=None,
+    out=None,
+    track="ballasted",
+    comfort="very-good",
+    alpha=1.0,
+    maintenance="careful",
+):
     """Run every combination of ``vary``'s values on the scenario ``base``.
 
     Args:
@@ -86,6 +169,14 @@ def sweep(base=None, vary=None, client=None, solver=None, retries=3, workers=Non
             retried ``retries`` times). Default None: the local cores, in threads.
         solver: ``"cosim"`` or ``"monolithic"`` (default the scenario's).
         workers: threads for a local sweep (default the number of cores).
+        trains: ``"hslm-a"`` (A1–A10) or names such as ``["A1", "A4"]``: instead of ``vary``,
+            the EN 1991-2 design check of ``tbi sweep --trains`` (``speeds``, ``out``,
+            ``track``, ``comfort``, ``alpha``, ``maintenance`` as its options; ``speeds``
+            default 144 km/h to 1.2 × the scenario's speed). Returns the rows of its
+            ``envelope.csv``; ``.attrs`` holds ``passed`` (every check), ``summary`` (the
+            printed summary) and ``out`` (the folder with ``report.html`` and
+            ``governing/``, or None when ``out`` was not given and the folder is removed).
+            A dict or TOML text is checked as ``scenario.toml`` in that folder.
 
     Returns:
         a pandas DataFrame, one row per case: the varied values, ``status`` (``"ok"`` or
@@ -96,17 +187,27 @@ def sweep(base=None, vary=None, client=None, solver=None, retries=3, workers=Non
     """
     import pandas as pd
 
-    from . import as_dict
+    from . import ScenarioError, as_dict
 
+    if trains is not None:
+        if vary:
+            raise ScenarioError("sweep: give vary or trains, not both")
+        options = dict(track=track, comfort=comfort, alpha=float(alpha), maintenance=maintenance)
+        return _design_check(base, trains, speeds, out, solver, options)
     vary = dict(vary or {})
     for key, values in vary.items():
         if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
-            from . import ScenarioError
-
             raise ScenarioError(f"vary: {key}: expected a list of values, got {values!r}")
+    vary = {k: list(v) for k, v in vary.items()}
+    count = 1
+    for values in vary.values():
+        count *= len(values)
+    if count > MAX_CASES:
+        raise ScenarioError(f"vary: {count} cases, more than {MAX_CASES}; split the sweep")
     scenario, base_dir = as_dict(base)
+    _check_vary(scenario, base_dir, vary, solver)
     keys = list(vary)
-    cases = [list(zip(keys, combo)) for combo in itertools.product(*(list(vary[k]) for k in keys))]
+    cases = [list(zip(keys, combo)) for combo in itertools.product(*(vary[k] for k in keys))]
     payloads = [(scenario, base_dir, values, solver) for values in cases]
     if client is None:
         with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
@@ -121,4 +222,8 @@ def sweep(base=None, vary=None, client=None, solver=None, retries=3, workers=Non
             pure=False,
         )
         rows = client.gather(futures)
-    return pd.DataFrame(rows)
+    table = pd.DataFrame(rows)
+    if "error" in table:
+        # None or a message, never NaN
+        table["error"] = table["error"].astype(object).where(table["error"].notna(), None)
+    return table

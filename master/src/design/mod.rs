@@ -142,7 +142,37 @@ pub struct Outcome {
     pub en: Option<en::Comparison>,
 }
 
+/// `tbi sweep --trains`: the check, its summary printed; exit code 3 when a check FAILs.
 pub fn main(args: &SweepArgs, speeds: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
+    let done = run(args, speeds)?;
+    for line in done.text.lines() {
+        crate::say!("{line}");
+    }
+    if !done.passed {
+        crate::console::check_failed();
+    }
+    eprintln!(
+        "tbi: {} cases ({} on the grid with the resonance speeds, {} refining peaks); envelope.csv, report.html, summary.txt and governing/ in {}",
+        done.outcome.rows.len(),
+        done.outcome.grid_runs,
+        done.outcome.refined_runs,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// A check done: its outcome, the summary's text (also `summary.txt`) and whether every
+/// check passed.
+pub struct Done {
+    pub outcome: Outcome,
+    pub text: String,
+    pub passed: bool,
+}
+
+/// The check of `args` over `speeds` into `args.out` (`envelope.csv`, `summary.txt`,
+/// `report.html`, `governing/`, the kept runs), printing nothing: for `tbi sweep` and the
+/// Python package.
+pub fn run(args: &SweepArgs, speeds: &[f64]) -> Result<Done, Box<dyn std::error::Error>> {
     let trains = train_names(&args.trains)?;
     let (limit_m_s2, track) = match args.track.as_str() {
         "ballasted" => (3.5, "ballasted track"),
@@ -176,23 +206,15 @@ pub fn main(args: &SweepArgs, speeds: &[f64]) -> Result<(), Box<dyn std::error::
     let out = crate::outdir::OutputDir::claim(&args.out)?;
     let outcome = check(&source, &trains, speeds, &options, out.path())?;
     let text = summary_text(&source, &outcome, &options, out.path());
-    for line in text.lines() {
-        crate::say!("{line}");
-    }
     crate::outdir::write_atomically(&out.path().join("summary.txt"), text.as_bytes())?;
     let html = report::html(&source, &outcome, &options, out.path(), started)?;
     crate::outdir::write_atomically(&out.path().join("report.html"), html.as_bytes())?;
-    if checks(&outcome, &options).iter().any(|c| !c.passed) {
-        crate::console::check_failed();
-    }
-    eprintln!(
-        "tbi: {} cases ({} on the grid with the resonance speeds, {} refining peaks); envelope.csv, report.html, summary.txt and governing/ in {}",
-        outcome.rows.len(),
-        outcome.grid_runs,
-        outcome.refined_runs,
-        out.path().display()
-    );
-    Ok(())
+    let passed = checks(&outcome, &options).iter().all(|c| c.passed);
+    Ok(Done {
+        outcome,
+        text,
+        passed,
+    })
 }
 
 /// Run the check into `out`: the cases, the refinement, the kept runs, `envelope.csv` and

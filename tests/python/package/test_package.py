@@ -24,6 +24,28 @@ DATA = REPO / "master" / "tests" / "data"
 SCENARIOS = sorted(DATA.glob("*.toml"))
 
 
+SPAN_20 = """name = "span-20m"
+[run]
+speed_kmh = 300.0
+solver = "monolithic"
+free_vibration_s = 0.0
+[bridge]
+kind = "simply_supported"
+span_m = 20.0
+youngs_modulus_pa = 3.5e10
+inertia_vertical_m4 = 0.9
+mass_per_length_kg_m = 12000.0
+modes = 3
+damping = { rule = "en1991-2", structure = "prestressed_concrete" }
+[train]
+kind = "hslm_a"
+name = "A1"
+[[probe]]
+name = "mid"
+x_m = 10.0
+"""
+
+
 def cli(*args):
     return subprocess.run([str(CLI), *map(str, args)], capture_output=True, text=True)
 
@@ -119,18 +141,53 @@ def test_bad_scenarios_raise_scenario_error_with_the_cli_message(tmp_path):
 
 
 def test_a_failing_case_is_reported_in_its_row():
+    # a track record that is missing fails when its case runs
+    missing = {"file": "missing.csv"}
     rows = tbi.sweep(
         DATA / "yang-yau.toml",
-        vary={"run.speed_kmh": [80.0, -5.0, 120.0]},
+        vary={"track.irregularity": ["none", missing, "none"]},
         solver="monolithic",
     )
-    assert rows["run.speed_kmh"].tolist() == [80.0, -5.0, 120.0]
     assert rows["status"].tolist() == ["ok", "failed", "ok"]
-    assert "ScenarioError" in rows["error"][1] and "run.speed_kmh" in rows["error"][1]
+    assert "ScenarioError" in rows["error"][1] and "missing.csv" in rows["error"][1]
+    assert rows["error"][0] is None and rows["error"][2] is None
     assert rows["mid.vertical_displacement_max_m"][0] > 0
+
+
+def test_vary_is_checked_before_any_case_runs():
+    # a misspelled key: refused with the close name, a ValueError
+    with pytest.raises(tbi.ScenarioError, match="did you mean `speed_kmh`") as e:
+        tbi.sweep(DATA / "yang-yau.toml", vary={"run.sped_kmh": [80.0, 120.0]})
+    assert isinstance(e.value, ValueError)
+    assert "<dict>" not in str(e.value)
+    # a value the scenario refuses, by key and value
+    with pytest.raises(tbi.ScenarioError, match=r"vary: run.speed_kmh = -5.0: .*run.speed_kmh"):
+        tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh": [80.0, -5.0]})
     # a key that is not a table is named
-    bad = tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh.x": [1]})
-    assert bad["status"][0] == "failed" and "run.speed_kmh" in bad["error"][0]
+    with pytest.raises(tbi.ScenarioError, match="run.speed_kmh"):
+        tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh.x": [1]})
+    # as many cases as the command line takes at most
+    with pytest.raises(tbi.ScenarioError, match="more than 100000"):
+        tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh": list(range(1, 400)), "run.dt_s": [0.001] * 400})
+
+
+def test_the_design_check_equals_the_command_line(tmp_path):
+    span = tmp_path / "span.toml"
+    span.write_text(SPAN_20)
+    done = cli("sweep", span, "--trains", "hslm-a", "--speeds", "300:340:10", "--out", tmp_path / "cli")
+    assert done.returncode in (0, 3), done.stderr
+    want = pd.read_csv(tmp_path / "cli" / "envelope.csv", keep_default_na=False,
+                       na_values={"car_body_acceleration_max_m_s2": [""]})
+    got = tbi.sweep(span, trains="hslm-a", speeds="300:340:10")
+    pd.testing.assert_frame_equal(got, want)
+    assert got.attrs["passed"] == (done.returncode == 0)
+    assert "deck vertical acceleration" in got.attrs["summary"]
+    assert got.attrs["out"] is None
+    kept = tbi.sweep(span, trains=["A1", "A2"], speeds=[300, 310], out=tmp_path / "py")
+    assert (tmp_path / "py" / "report.html").is_file()
+    assert set(kept["train"]) == {"A1", "A2"}
+    with pytest.raises(tbi.ScenarioError, match="--trains A11"):
+        tbi.sweep(span, trains="A11", speeds=[300])
 
 
 def test_a_local_sweep_equals_single_runs():

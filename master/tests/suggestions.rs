@@ -1,0 +1,66 @@
+//! A misspelled scenario key or kind is refused with the closest valid name.
+
+use tbi_tests::{run, scratch, tbi_command, text};
+
+const SPAN: &str = r#"name = "span"
+[run]
+speed_kmh = 200.0
+[bridge]
+kind = "simply_supported"
+span_m = 20.0
+youngs_modulus_pa = 3.5e10
+inertia_vertical_m4 = 0.9
+mass_per_length_kg_m = 12000.0
+[train]
+kind = "hslm_a"
+name = "A1"
+[[probe]]
+name = "mid"
+x_m = 10.0
+"#;
+
+#[test]
+fn a_typo_names_the_close_key() {
+    let dir = scratch("suggestions");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (from, to, want) in [
+        (
+            "speed_kmh = 200.0",
+            "sped_kmh = 200.0",
+            "did you mean `speed_kmh`?",
+        ),
+        ("span_m = 20.0", "span_mm = 20.0", "did you mean `span_m`?"),
+        ("[[probe]]", "[[prob]]", "did you mean `probe`?"),
+    ] {
+        let path = dir.join("typo.toml");
+        std::fs::write(&path, SPAN.replace(from, to)).unwrap();
+        let r = run(tbi_command()
+            .arg("run")
+            .arg(&path)
+            .args(["--quiet", "--out"])
+            .arg(dir.join("out")));
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains(want) && err.contains("typo.toml"),
+            "{to}: {err}"
+        );
+    }
+    // nothing close: no suggestion
+    let path = dir.join("far.toml");
+    std::fs::write(
+        &path,
+        SPAN.replace("speed_kmh = 200.0", "speed_kmh = 200.0\nxyzzy = 1"),
+    )
+    .unwrap();
+    let r = run(tbi_command()
+        .arg("run")
+        .arg(&path)
+        .args(["--quiet", "--out"])
+        .arg(dir.join("out")));
+    let err = text(&r.stderr);
+    assert!(
+        err.contains("unknown field `xyzzy`") && !err.contains("did you mean"),
+        "{err}"
+    );
+}
