@@ -55,3 +55,16 @@ pub fn any_check_failed() -> bool {
 pub fn clear_check_failed() {
     CHECK_FAILED.store(false, Ordering::Relaxed);
 }
+
+/// A command line whose options contradict each other (exit code 2, as for a command line
+/// clap refuses).
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}

@@ -5,14 +5,19 @@
 //! of the coupling annotation); the step size is required. Coupling options: the
 //! command line over the annotation over the defaults of [`CouplingConfig`].
 //!
-//! Output: a CSV (default `<SYSTEM stem>_out.csv`) with `time`, then every connected output
-//! as `component.variable` (in connection order; Integer and Boolean values as integers,
-//! Booleans 0/1), then the `--record` variables; a row
+//! Output: a CSV (default `<SYSTEM stem>_out.csv`) with `time`, then the system's own
+//! outputs by name (the annotation's `tbi:Output`s: `tbi export` declares each probe's deck
+//! response and each car body's accelerations), or with `--record-all` (or a system that
+//! declares none) every connected output as `component.variable` (in connection order;
+//! Integer and Boolean values as integers, Booleans 0/1), then the `--record` variables. Its
+//! size is estimated first and refused past 2 GiB (`--allow-large`); a row
 //! after initialisation and one after each communication step (with `--output-interval`,
 //! after each step ending at a multiple of the interval, and after the last), every number in full
 //! precision (shortest round-trip form, scientific notation as in `history.csv`). Beside it `<CSV>.json`: steps, iterations per step
 //! (mean, max), the largest final residual of the interface iteration (explicit schemes:
-//! the interface defect), the options used, and the connections the scheme lagged by one
+//! the interface defect, also printed, with a word when it passes
+//! [`EXPLICIT_DEFECT_NOTICE`]) in tolerances and relative, with its measure named, the
+//! options used (the acceleration `null` for an explicit scheme), and the connections the scheme lagged by one
 //! step per pair of components (`lagged_connections`: for Gauss–Seidel the connections
 //! that close a cycle in the SSD's component order).
 
@@ -38,17 +43,26 @@ pub struct CosimArgs {
     /// Communication step, s (default: the annotation's step_size).
     #[arg(long, allow_negative_numbers = true)]
     pub step_size: Option<f64>,
-    /// `implicit`, `gauss-seidel` or `jacobi`.
+    /// Coupling scheme: `implicit` (the interface iterated in every step until it converges:
+    /// the monolithic solution), `gauss-seidel` or `jacobi` (explicit: one pass, inputs
+    /// lagged). Default: the annotation's, else `implicit`.
     #[arg(long)]
     pub scheme: Option<String>,
-    /// `iqn-ils`, `aitken`, `newton` or `constant` (implicit scheme; default: the
-    /// annotation's, else `iqn-ils` reusing the last 8 steps' columns).
+    /// Acceleration of the implicit scheme: `iqn-ils`, `aitken`, `newton` or `constant`.
+    /// Default: the annotation's, else `iqn-ils` reusing the last 8 steps' columns. Refused
+    /// with an explicit scheme.
     #[arg(long)]
     pub acceleration: Option<String>,
+    /// Relative tolerance of the interface: a step converges when the weighted RMS of the
+    /// change of the exchanged values, each over rtol·max|value of its group| + atol, is ≤ 1.
+    /// Default: the annotation's, else 1e-10.
     #[arg(long, allow_negative_numbers = true)]
     pub rtol: Option<f64>,
+    /// Absolute tolerance of the interface, in the units of the exchanged values (> 0).
+    /// Default: the annotation's, else 1e-12.
     #[arg(long, allow_negative_numbers = true)]
     pub atol: Option<f64>,
+    /// Most sweeps of the implicit scheme in one step. Default: the annotation's, else 50.
     #[arg(long)]
     pub max_iterations: Option<usize>,
     /// Set a parameter or input before initialisation: `COMPONENT.VARIABLE=VALUE`.
@@ -57,17 +71,31 @@ pub struct CosimArgs {
     /// Also record `COMPONENT.VARIABLE` (repeatable).
     #[arg(long = "record", value_name = "COMPONENT.VARIABLE")]
     pub record: Vec<String>,
-    /// Result CSV (default `<SYSTEM stem>_out.csv`).
+    /// Record every connected output, not only the system's own outputs (the probes and car
+    /// bodies `tbi export` declares). A system that declares none records every connected
+    /// output anyway.
+    #[arg(long)]
+    pub record_all: bool,
+    /// Result CSV. Default: `<SYSTEM stem>_out.csv` in the working folder.
     #[arg(long)]
     pub output: Option<PathBuf>,
-    /// Time between result rows, s: a whole multiple of the step size (default: a row after
-    /// every step). The last step always has a row.
+    /// Time between result rows, s: a whole multiple of the step size. Default: the
+    /// annotation's `output_interval` (`tbi export` writes the scenario's
+    /// `dt_s × output_every`) where it is a whole multiple of the step, else a row after
+    /// every step. The last step always has a row.
     #[arg(long, allow_negative_numbers = true)]
     pub output_interval: Option<f64>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Write the CSV even when its estimated size passes 2 GiB (the limit of `tbi run`).
+    #[arg(long)]
+    pub allow_large: bool,
 }
+
+/// The size an explicit scheme's interface defect may reach, relative to the values, before
+/// `tbi cosim` suggests the implicit scheme: 1e-3 (0.1 %).
+pub const EXPLICIT_DEFECT_NOTICE: f64 = 1e-3;
 
 /// The connections an explicit scheme lags by one step, counted per pair of components:
 /// Jacobi lags every connection; Gauss–Seidel (components stepped in SSD order) lags those
@@ -110,6 +138,20 @@ fn lagged_connections(
         .collect()
 }
 
+/// How the side-car's residuals are measured.
+const RESIDUAL_MEASURE: &str = "weighted RMS of the change of the exchanged values in a step's last sweep (implicit) or of the defect between the lagged inputs and the outputs they stand for (explicit), each value over rtol·max|value of its group| + atol: 1 is the tolerance; the relative figure is that times rtol";
+
+/// `; did you mean "x"?` for the closest of `names` to `name` (normalised Damerau–Levenshtein
+/// similarity ≥ 0.5), or nothing.
+pub fn closest<'a>(name: &str, names: impl Iterator<Item = &'a str>) -> String {
+    names
+        .map(|n| (strsim::normalized_damerau_levenshtein(name, n), n))
+        .filter(|(score, _)| *score >= 0.5)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| format!("; did you mean \"{n}\"?"))
+        .unwrap_or_default()
+}
+
 fn split_name(item: &str, option: &str) -> Result<(String, String), String> {
     item.split_once('.')
         .map(|(c, v)| (c.to_owned(), v.to_owned()))
@@ -125,6 +167,13 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(a) = &args.acceleration {
         cfg.acceleration =
             AccelerationKind::from_str(a).map_err(|e| format!("--acceleration {a}: {e}"))?;
+        if cfg.scheme != SchemeKind::Implicit {
+            return Err(crate::console::UsageError(format!(
+                "--acceleration {a} with --scheme {}: an explicit scheme makes one pass per step and accelerates nothing; drop --acceleration or use --scheme implicit",
+                cfg.scheme.as_str()
+            ))
+            .into());
+        }
     }
     if let Some(v) = args.rtol {
         cfg.rtol = v;
@@ -163,9 +212,11 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         .into());
     }
     let steps = steps as usize;
-    let every = match args.output_interval {
-        None => 1,
-        Some(dt) => steps_per_row(dt, h)?,
+    let every = match (args.output_interval, open.output_interval()?) {
+        (Some(dt), _) => steps_per_row(dt, h)?,
+        // the annotation's, where it is a whole number of this run's steps
+        (None, Some(dt)) => steps_per_row(dt, h).unwrap_or(1),
+        (None, None) => 1,
     };
     let mut sets = Vec::new();
     for item in &args.set {
@@ -201,11 +252,14 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .into());
         }
     }
-    let mut columns: Vec<(String, usize, u32, Option<Discrete>)> = wired
-        .outputs
-        .iter()
-        .map(|o| (o.name.clone(), o.participant, o.vr, o.kind))
-        .collect();
+    // the system's own outputs by default; every connected output with --record-all or
+    // when the system declares none
+    let all = args.record_all || wired.recorded.is_empty();
+    let mut columns: Vec<(String, usize, u32, Option<Discrete>)> =
+        if all { &wired.outputs } else { &wired.recorded }
+            .iter()
+            .map(|o| (o.name.clone(), o.participant, o.vr, o.kind))
+            .collect();
     for r in &args.record {
         let (c, v) = split_name(r, "--record")?;
         let i = open
@@ -213,11 +267,19 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .components
             .iter()
             .position(|x| x.name == c)
-            .ok_or_else(|| format!("--record {r}: the system has no component \"{c}\""))?;
-        let var = wired.fmus[i]
-            .model_description()
-            .variable(&v)
-            .ok_or_else(|| format!("--record {r}: component \"{c}\" has no variable \"{v}\""))?;
+            .ok_or_else(|| {
+                format!(
+                    "--record {r}: the system has no component \"{c}\"{}",
+                    closest(&c, open.ssd.components.iter().map(|x| x.name.as_str()))
+                )
+            })?;
+        let md = wired.fmus[i].model_description();
+        let var = md.variable(&v).ok_or_else(|| {
+            format!(
+                "--record {r}: component \"{c}\" has no variable \"{v}\"{}",
+                closest(&v, md.model_variables.iter().map(|x| x.name.as_str()))
+            )
+        })?;
         let kind = crate::ssp::exchanged_kind(&var.kind)
             .ok_or_else(|| format!("--record {r}: a String variable cannot be recorded"))?;
         columns.push((r.clone(), i, var.value_reference, kind));
@@ -230,6 +292,19 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or_else(|| "system".into());
         PathBuf::from(format!("{stem}_out.csv"))
     });
+    let rows_total = (steps / every + 2) as f64;
+    let estimate = rows_total * (1 + columns.len()) as f64 * crate::model::VALUE_BYTES;
+    let limit = crate::model::Limits::default().max_history_bytes;
+    if estimate > limit && !args.allow_large {
+        return Err(format!(
+            "{}: the CSV would grow to about {:.0} MiB ({} columns × {rows_total:.0} rows), more than the limit of {:.0} MiB; record fewer signals (without --record-all), raise --output-interval, or give --allow-large",
+            output.display(),
+            estimate / (1u64 << 20) as f64,
+            columns.len() + 1,
+            limit / (1u64 << 20) as f64
+        )
+        .into());
+    }
     let mut csv = crate::outdir::NamedFile::create(&output)?;
     let header: Vec<&str> = std::iter::once("time")
         .chain(columns.iter().map(|c| c.0.as_str()))
@@ -265,15 +340,18 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         "stop_time_s": stop,
         "step_size_s": h,
         "scheme": cfg.scheme.as_str(),
-        "acceleration": cfg.acceleration.as_str(),
+        "acceleration": (cfg.scheme == SchemeKind::Implicit).then(|| cfg.acceleration.as_str()),
         "rtol": cfg.rtol,
         "atol": cfg.atol,
+        "recorded": if all { "every connected output" } else { "the system's outputs" },
         "steps": stats.steps,
         "iterations_mean": stats.mean_iterations(),
         "iterations_max": stats.max_iterations,
         "steps_by_iterations": stats.steps_by_iterations,
         "jacobian_probes": stats.jacobian_probes,
-        "max_residual": stats.max_residual,
+        "residual_measure": RESIDUAL_MEASURE,
+        "max_residual_in_tolerances": stats.max_residual,
+        "max_residual_relative": stats.max_residual * cfg.rtol,
         "accepted_unconverged": stats.accepted_unconverged,
         "lagged_connections": lagged,
     });
@@ -283,6 +361,19 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         &PathBuf::from(json_name),
         serde_json::to_string_pretty(&summary)?.as_bytes(),
     )?;
+    if cfg.scheme != SchemeKind::Implicit {
+        let relative = stats.max_residual * cfg.rtol;
+        eprintln!(
+            "tbi: {} scheme: interface defect up to {relative:.3e} relative ({:.3e} tolerances): how far the inputs each FMU stepped with, lagged by the scheme, were from the outputs they stand for{}",
+            cfg.scheme.as_str(),
+            stats.max_residual,
+            if relative > EXPLICIT_DEFECT_NOTICE {
+                "; above 0.1 %: the results differ from the coupled solution by about that much, use --scheme implicit"
+            } else {
+                ""
+            }
+        );
+    }
     if !args.quiet {
         eprintln!(
             "tbi: {} steps, {:.2} iterations per step; results in {}",

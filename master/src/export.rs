@@ -388,7 +388,16 @@ pub fn export_with(
             parts.push((Side::Wind, path.clone(), layout.variables(res)));
         }
         let links = connections(&bridge_layout, &train_layout, wind.as_ref().map(|w| &w.2))?;
-        ssd = write_ssp(&ssp, &parts, &links, stop, (coupling, model.dt))?;
+        let probe_names: Vec<String> = model.probes.iter().map(|p| p.0.clone()).collect();
+        let outputs = system_outputs(&parts, &probe_names);
+        ssd = write_ssp(
+            &ssp,
+            &parts,
+            &links,
+            &outputs,
+            stop,
+            (coupling, model.dt, model.output_every),
+        )?;
     }
     Ok(Exported {
         bridge: bridge_path,
@@ -600,14 +609,46 @@ fn xml_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// The system's own outputs, `(name, component, variable)`: each probe's deck response by
+/// the probe's name (`mid.z` for the bridge's `probe[1].z`), each car body's accelerations
+/// (`veh1.a_z` for the train's `veh[1].a_z`).
+fn system_outputs(
+    parts: &[(Side, PathBuf, Vec<Var>)],
+    probe_names: &[String],
+) -> Vec<(String, Side, String)> {
+    let mut out = Vec::new();
+    for (side, _, vars) in parts {
+        for v in vars.iter().filter(|v| v.causality == Causality::Output) {
+            let Some((block, channel)) = v.name.split_once("].") else {
+                continue;
+            };
+            let Some((prefix, k)) = block.split_once('[') else {
+                continue;
+            };
+            let Ok(k) = k.parse::<usize>() else { continue };
+            let name = match (side, prefix) {
+                (Side::Bridge, "probe") => match probe_names.get(k - 1) {
+                    Some(p) => format!("{p}.{channel}"),
+                    None => continue,
+                },
+                (Side::Train, "veh") => format!("veh{k}.{channel}"),
+                _ => continue,
+            };
+            out.push((name, *side, v.name.clone()));
+        }
+    }
+    out
+}
+
 /// Writes the system archive (unless the one at `path` is current) and returns its
 /// description.
 fn write_ssp(
     path: &Path,
     parts: &[(Side, PathBuf, Vec<Var>)],
     links: &[Link],
+    outputs: &[(String, Side, String)],
     stop: f64,
-    (coupling, step): (&CouplingConfig, f64),
+    (coupling, step, output_every): (&CouplingConfig, f64, usize),
 ) -> Result<String, String> {
     let annotation: String = coupling
         .attributes()
@@ -652,7 +693,8 @@ fn write_ssp(
 {}    </ssd:Connections>
     <ssd:Annotations>
       <ssc:Annotation type="{}">
-        <tbi:Coupling step_size="{step}"{annotation}/>
+        <tbi:Coupling step_size="{step}" output_interval="{}"{annotation}>
+{}        </tbi:Coupling>
       </ssc:Annotation>
     </ssd:Annotations>
   </ssd:System>
@@ -662,6 +704,16 @@ fn write_ssp(
         components,
         conns,
         crate::ssp::COUPLING_ANNOTATION,
+        step * output_every as f64,
+        outputs
+            .iter()
+            .map(|(name, side, var)| format!(
+                "          <tbi:Output name=\"{}\" element=\"{}\" connector=\"{}\"/>\n",
+                xml_escape(name),
+                side.name(),
+                xml_escape(var)
+            ))
+            .collect::<String>(),
     );
     let identities: Vec<(String, u64, u32)> = parts
         .iter()

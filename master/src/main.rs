@@ -98,7 +98,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("tbi: error: {e:#}");
-            if tbi::interrupt::interrupted() {
+            if e.downcast_ref::<tbi::console::UsageError>().is_some() {
+                ExitCode::from(2)
+            } else if tbi::interrupt::interrupted() {
                 ExitCode::from(130)
             } else {
                 ExitCode::FAILURE

@@ -10,14 +10,21 @@
 //! <ssd:System name="…"> …
 //!   <ssd:Annotations>
 //!     <ssc:Annotation type="org.tbi.coupling">
-//!       <tbi:Coupling step_size="0.002" scheme="implicit" acceleration="iqn-ils" rtol="1e-10"/>
+//!       <tbi:Coupling step_size="0.002" scheme="implicit" acceleration="iqn-ils" rtol="1e-10">
+//!         <tbi:Output name="mid.z" element="bridge" connector="probe[1].z"/>
+//!       </tbi:Coupling>
 //!     </ssc:Annotation>
 //!   </ssd:Annotations>
 //! </ssd:System>
 //! ```
 //!
-//! whose attributes are the keys of a scenario's `[coupling]` table plus `step_size` (s);
-//! command-line options override them. Real connections are coupled by every scheme;
+//! whose attributes are the keys of a scenario's `[coupling]` table plus `step_size` (s)
+//! and `output_interval` (s, the rows `tbi cosim` writes by default);
+//! command-line options override them. The `tbi:Output`s name the system's own outputs
+//! (`tbi export` declares the scenario's probes and car bodies), which `tbi cosim` records
+//! by default. (An annotation rather than SSD System connectors: libcosim refuses a
+//! connection without an `endElement`; the outputs sit inside `tbi:Coupling`, as the SSP
+//! schema takes one element in an annotation.) Real connections are coupled by every scheme;
 //! Integer (and Enumeration) and Boolean connections by the explicit schemes only (passed
 //! once per step, never iterated); a String connection is refused naming it. The
 //! participants are stepped in the order of the SSD's components (the Gauss–Seidel order).
@@ -53,6 +60,18 @@ pub struct Ssd {
     pub stop_time: Option<f64>,
     /// The attributes of the coupling annotation, as written.
     pub coupling: Vec<(String, String)>,
+    /// The system's own outputs of the annotation (`<tbi:Output name element connector/>`):
+    /// what `tbi cosim` records by default, by name (`mid.z` for the bridge's
+    /// `probe[1].z`).
+    pub recorded: Vec<RecordedOutput>,
+}
+
+/// A system output the annotation names: `name` is `element.connector`'s.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RecordedOutput {
+    pub name: String,
+    pub element: String,
+    pub connector: String,
 }
 
 /// One `ssd:Component`.
@@ -170,6 +189,16 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
                                 )
                             })
                             .collect();
+                    }
+                    "Output" if in_annotation => {
+                        let get = |k: &str| {
+                            attr(e, k).ok_or_else(|| at(format!("<tbi:Output> has no {k}")))
+                        };
+                        ssd.recorded.push(RecordedOutput {
+                            name: get("name")?,
+                            element: get("element")?,
+                            connector: get("connector")?,
+                        });
                     }
                     "ParameterBinding" if inside("Component") => {
                         if let Some(src) = attr(e, "source") {
@@ -300,10 +329,31 @@ pub fn open_exported(ssd: &str, ssp: &Path) -> Result<OpenSystem, String> {
 
 impl OpenSystem {
     /// The coupling options of the annotation.
+    /// The annotation's `output_interval` (s): the time between the rows `tbi cosim` writes
+    /// by default (`tbi export` writes the scenario's `dt_s × output_every`).
+    pub fn output_interval(&self) -> Result<Option<f64>, String> {
+        self.ssd
+            .coupling
+            .iter()
+            .find(|(k, _)| k == "output_interval")
+            .map(|(_, v)| {
+                v.parse::<f64>().map_err(|_| {
+                    format!(
+                        "{}: coupling annotation: output_interval=\"{v}\" is not a number",
+                        self.origin
+                    )
+                })
+            })
+            .transpose()
+    }
+
     pub fn coupling(&self) -> Result<(CouplingConfig, Option<f64>), String> {
         let mut step = None;
         let mut toml = String::new();
         for (k, v) in &self.ssd.coupling {
+            if k == "output_interval" {
+                continue;
+            }
             if k == "step_size" {
                 step = Some(v.parse::<f64>().map_err(|_| {
                     format!(
@@ -344,6 +394,8 @@ pub struct Wired {
     pub system: System,
     /// Every connected output, once, in connection order.
     pub outputs: Vec<Output>,
+    /// The system's own outputs ([`Ssd::recorded`]), by their names.
+    pub recorded: Vec<Output>,
     /// The loaded FMUs (participant order), for name look-ups.
     pub fmus: Vec<Arc<Fmu>>,
 }
@@ -356,9 +408,12 @@ fn connectable_variable<'a>(
     name: &str,
     origin: &str,
 ) -> Result<(&'a model_description::ScalarVariable, Option<Discrete>), String> {
-    let v = md
-        .variable(name)
-        .ok_or_else(|| format!("{origin}: component \"{component}\" has no variable \"{name}\""))?;
+    let v = md.variable(name).ok_or_else(|| {
+        format!(
+            "{origin}: component \"{component}\" has no variable \"{name}\"{}",
+            crate::cosim_cmd::closest(name, md.model_variables.iter().map(|x| x.name.as_str()))
+        )
+    })?;
     let kind = exchanged_kind(&v.kind).ok_or_else(|| {
         format!(
             "{origin}: {component}.{name} is a String variable; Real, Integer and Boolean connections are coupled"
@@ -566,16 +621,25 @@ pub fn wire(
     }
     for (component, name, text) in sets {
         let i = *index.get(component).ok_or_else(|| {
-            format!("--set {component}.{name}: the system has no component \"{component}\"")
+            format!(
+                "--set {component}.{name}: the system has no component \"{component}\"{}",
+                crate::cosim_cmd::closest(
+                    component,
+                    open.ssd.components.iter().map(|c| c.name.as_str())
+                )
+            )
         })?;
         values.push((i, name, text, format!("--set {component}.{name}")));
     }
     for (i, name, text, at) in values {
         let c = &open.ssd.components[i].name;
-        let var = fmus[i]
-            .model_description()
-            .variable(name)
-            .ok_or_else(|| format!("{at}: component \"{c}\" has no variable \"{name}\""))?;
+        let md = fmus[i].model_description();
+        let var = md.variable(name).ok_or_else(|| {
+            format!(
+                "{at}: component \"{c}\" has no variable \"{name}\"{}",
+                crate::cosim_cmd::closest(name, md.model_variables.iter().map(|x| x.name.as_str()))
+            )
+        })?;
         let settable = var.causality == Causality::Parameter
             && matches!(var.variability, Variability::Fixed | Variability::Tunable)
             || var.causality == Causality::Input;
@@ -657,11 +721,46 @@ pub fn wire(
     for p in &mut system.participants {
         p.exit_initialization().map_err(text)?;
     }
+    let recorded = recorded_outputs(open, &index, &fmus)?;
     Ok(Wired {
         system,
         outputs,
+        recorded,
         fmus,
     })
+}
+
+/// The annotation's system outputs ([`Ssd::recorded`]) as outputs to record.
+fn recorded_outputs(
+    open: &OpenSystem,
+    index: &HashMap<String, usize>,
+    fmus: &[Arc<Fmu>],
+) -> Result<Vec<Output>, String> {
+    let origin = &open.origin;
+    open.ssd
+        .recorded
+        .iter()
+        .map(|r| {
+            let i = *index.get(&r.element).ok_or_else(|| {
+                format!(
+                    "{origin}: the system output \"{}\" names the unknown component \"{}\"",
+                    r.name, r.element
+                )
+            })?;
+            let (v, kind) = connectable_variable(
+                fmus[i].model_description(),
+                &r.element,
+                &r.connector,
+                origin,
+            )?;
+            Ok(Output {
+                name: r.name.clone(),
+                participant: i,
+                vr: v.value_reference,
+                kind,
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@ fn the_exported_default_system_runs_in_libcosim_as_in_tbi_jacobi() {
                 "--stop-time",
                 STOP,
             ])
-            .args(["--quiet", "--output"])
+            .args(["--quiet", "--record-all", "--output"])
             .arg(&ours),
     );
     let theirs = dir.join("libcosim.csv");

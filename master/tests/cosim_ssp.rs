@@ -43,7 +43,13 @@ fn cosim(ssp: &Path, out: &Path, extra: &[&str]) -> Table {
         tbi_command()
             .arg("cosim")
             .arg(ssp)
-            .args(["--quiet", "--record", "bridge.probe[1].z", "--output"])
+            .args([
+                "--quiet",
+                "--record-all",
+                "--record",
+                "bridge.probe[1].z",
+                "--output",
+            ])
             .arg(out)
             .args(extra),
     );
