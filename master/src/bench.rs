@@ -74,7 +74,7 @@ speed_kmh = 70.0
 dt_s = 0.005
 solver = "monolithic"
 free_vibration_s = 0.0
-output_every = 1
+output_every = 1000000
 [bridge]
 "#,
             $bridge,
