@@ -1,42 +1,5 @@
-//! Scenario files (TOML): what to simulate.
-//!
-//! ```toml
-//! name = "yang-yau"
-//! [run]
-//! speed_kmh = 100.0            # train speed, km/h (> 0)
-//! dt_s = 0.0005                # time step, s (> 0); default 0.001
-//! solver = "monolithic"        # or "cosim" (default)
-//! free_vibration_s = 1.0       # simulated time after the last axle leaves the bridge, s
-//! start_x_m = 0.0              # first axle position at t = 0, m (default: deck start)
-//! output_every = 1             # write every n-th step to history.csv (default 1)
-//! [bridge]
-//! kind = "simply_supported"    # or "modal_file" (path = "modes.csv"), "suspension" (preset = "tsing-ma")
-//! # kind = "beam": spans_m = [20.0, 25.0], supports = "continuous" (or "simply_supported", a chain),
-//! #   sections = [{ inertia_vertical_m4 = 1.2 }, { inertia_vertical_m4 = 1.5 }] per span (keys default to the bridge's)
-//! span_m = 25.0
-//! youngs_modulus_pa = 2.87e9
-//! inertia_vertical_m4 = 2.9    # inertia_lateral_m4, shear_modulus_pa, torsion_constant_m4, polar_inertia_kg_m optional
-//! mass_per_length_kg_m = 2303.0
-//! modes = 20
-//! damping_ratio = 0.0          # bending modes; damping_ratio_torsional defaults to it
-//! track_eccentricity_m = 0.0   # e, track offset from the shear centre (+y), m
-//! track_height_m = 0.0         # h4, wheelset reference above the shear centre, m
-//! [train]
-//! kind = "sprung_mass"         # or "moving_force", "coach_27dof", "hslm_a" (name = "A1"),
-//!                              # "hslm_b" (forces = N, spacing_m = d: N × 170 kN at d)
-//! axles = [{ offset_m = 0.0, sprung_mass_kg = 5750.0, stiffness_n_m = 1.595e6, damping_ns_m = 0.0 }]
-//! # coach_27dof: preset = "xia2000", vehicles = 8, coach = { k1v_n_m = ... } overrides
-//! # moving_force / hslm_a: vehicle = { model = "sprung_mass", frequency_hz = 1.0, damping_ratio = 0.1, wheel_mass_kg = 2000.0 }
-//! #   puts a sprung mass under every axle (m_s + m_w = P / g)
-//! # hunting = { amplitude_m = 0.003, wavelength_m = 15.0, seed = 1 }
-//! [track]
-//! irregularity = "none"        # or { spectrum = "german-low", seed = 1, lambda_min_m = 1.0, lambda_max_m = 80.0 } or { file = "track.csv" }
-//! [[probe]]
-//! name = "mid"
-//! x_m = 12.5
-//! [coupling]                   # co-simulation only
-//! scheme = "implicit"
-//! ```
+//! Scenario files (TOML): what to simulate. Every key, its unit, default and range:
+//! `docs/scenario.md` (the one reference; a test holds it to the keys these structs accept).
 //!
 //! Unknown keys are refused; every check names the file, the field and the value.
 //!
@@ -101,7 +64,7 @@ pub mod examples {
     }
 }
 
-/// Limits on scenario values (documented in README.md, "Limits"). Values outside them are
+/// Limits on scenario values (documented in docs/scenario.md, "Limits"). Values outside them are
 /// not physically meaningful for a railway bridge or would exhaust the machine.
 pub mod limits {
     /// Time step range, s.

@@ -97,6 +97,22 @@ fn every_tested_block_runs_as_written() {
     assert!(total >= 4, "{total} tested blocks");
 }
 
+/// README.md is a guide, not a journal: at most 20 KB, and no commit hashes.
+#[test]
+fn the_readme_is_a_short_guide() {
+    let text = std::fs::read_to_string(common::repo_root().join("README.md")).unwrap();
+    assert!(text.len() <= 20 * 1024, "README.md is {} bytes", text.len());
+    for word in text.split(|c: char| !c.is_ascii_alphanumeric()) {
+        let hex = word.len() >= 7 && word.chars().all(|c| c.is_ascii_hexdigit());
+        let has_letter = word.chars().any(|c| c.is_ascii_alphabetic());
+        let has_digit = word.chars().any(|c| c.is_ascii_digit());
+        assert!(
+            !(hex && has_letter && has_digit),
+            "README.md names {word}, like a commit"
+        );
+    }
+}
+
 /// The extraction: only `sh test` blocks, other blocks skipped whole.
 #[test]
 fn only_blocks_marked_for_testing_are_taken() {

@@ -63,7 +63,7 @@
 //! residual and the fewer the sweeps: on the train–bridge systems the quadratic predictor
 //! needs 2.47 sweeps per step on the bench case against 2.55 for the linear one, 2.35
 //! against 2.39 on the default case (IQN-ILS); higher orders amplify the wheel forces'
-//! high-frequency content (see PERFORMANCE.md). The converged result does not depend on the
+//! high-frequency content (see docs/performance.md). The converged result does not depend on the
 //! predictor beyond the tolerance.
 //!
 //! # Updates within round-off of the outputs
