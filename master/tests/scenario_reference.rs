@@ -44,8 +44,7 @@ fn documented() -> BTreeSet<String> {
 /// The keys the reader lists for an unknown key in `text`.
 fn accepted(text: &str) -> BTreeSet<String> {
     let e = Scenario::from_toml(text, "probe.toml", Path::new("."))
-        .err()
-        .expect("an unknown key is refused")
+        .expect_err("an unknown key is refused")
         .to_string();
     let list = e
         .split_once("unknown field `zz_unknown`, expected")
