@@ -8,6 +8,7 @@
 //! | `ws[i]` | output | [`RAIL_CHANNELS`] (rail motion under wheelset i, deck plus irregularity) | after the inputs |
 //! | `probe[k]` | output | [`PROBE_CHANNELS`] (deck response at probe k) | after the rail motion |
 //! | `deck[j]` | input | [`WIND_CHANNELS`] (turbulence at deck point j, from the wind FMU; only with `[wind] turbulence`) | after the probes |
+//! | `mode[n].damping_ratio` | parameter (fixed) | the damping ratio of mode n, – | from [`PARAM_BASE`] |
 
 use tbi_dynamics::interface::{
     Block, Blocks, BridgeResources, Channel, Var, RAIL_CHANNELS, WHEEL_CHANNELS, WIND_CHANNELS,
@@ -17,6 +18,9 @@ use tbi_dynamics::solver::partitioned::ProbeValues;
 /// `<fmiModelDescription description>` of the bridge FMU.
 pub const DESCRIPTION: &str =
     "Bridge with its track (modal model, Xia, Xu & Chan 2000): wheelset forces in, rail motion out";
+
+/// First parameter value reference (`mode[1].damping_ratio`).
+pub const PARAM_BASE: u32 = 1_000_000;
 
 /// Start of `ws[i].x`, m: a wheelset that has not arrived is far before the deck.
 pub const PARKED_X: f64 = -1.0e6;
@@ -75,6 +79,8 @@ pub enum BridgeVar {
     Wind { j: usize, k: usize },
     /// An output, by its slot in the output buffer.
     Output(usize),
+    /// The damping ratio of mode `n` (0-based), a parameter.
+    Damping(usize),
 }
 
 /// The bridge FMU's blocks for a number of wheelsets and probes.
@@ -84,6 +90,8 @@ pub struct BridgeLayout {
     pub rail_out: Block,
     pub probe_out: Block,
     pub wind_in: Block,
+    /// Modes whose damping ratios are parameters (0 for a layout made without resources).
+    pub n_modes: usize,
     n_outputs: usize,
     /// `decode` by value reference.
     table: Vec<Option<BridgeVar>>,
@@ -106,6 +114,7 @@ impl BridgeLayout {
             rail_out,
             probe_out,
             wind_in,
+            n_modes: 0,
             n_outputs: b.n_slots(),
             table: Vec::new(),
         };
@@ -118,7 +127,9 @@ impl BridgeLayout {
     /// The layout of the FMU with these resources.
     pub fn of(res: &BridgeResources) -> BridgeLayout {
         let points = res.modal.buffeting.as_ref().map_or(0, |b| b.points.max(2));
-        BridgeLayout::with_wind(res.n_wheelsets, res.probes.len(), points)
+        let mut l = BridgeLayout::with_wind(res.n_wheelsets, res.probes.len(), points);
+        l.n_modes = res.modal.n_modes();
+        l
     }
 
     pub fn n_wheelsets(&self) -> usize {
@@ -132,7 +143,16 @@ impl BridgeLayout {
 
     /// The variable of `vr` (one table load).
     pub fn decode(&self, vr: u32) -> Option<BridgeVar> {
+        if vr >= PARAM_BASE {
+            let n = (vr - PARAM_BASE) as usize;
+            return (n < self.n_modes).then_some(BridgeVar::Damping(n));
+        }
         self.table.get(vr as usize).copied().flatten()
+    }
+
+    /// The name of parameter `mode[n + 1].damping_ratio`.
+    pub fn damping_name(n: usize) -> String {
+        format!("mode[{}].damping_ratio", n + 1)
     }
 
     fn decode_blocks(&self, vr: u32) -> Option<BridgeVar> {
@@ -178,6 +198,20 @@ impl BridgeLayout {
                 |_, _| Some(0.0),
             ));
         }
+        let m = &res.modal;
+        v.extend((0..self.n_modes).map(|n| Var {
+            vr: PARAM_BASE + n as u32,
+            name: Self::damping_name(n),
+            causality: tbi_dynamics::interface::Causality::Parameter,
+            unit: "1".into(),
+            description: format!(
+                "damping ratio of mode {} ({}, {} Hz)",
+                n + 1,
+                m.labels[n],
+                m.frequencies_hz[n]
+            ),
+            start: Some(m.damping[n]),
+        }));
         v
     }
 }
@@ -203,6 +237,9 @@ mod tests {
                         }
                         Some(BridgeVar::Wind { j, k: kk }) => assert_eq!((i, j, kk), (3, n, k)),
                         Some(BridgeVar::Output(s)) => slots.push(s),
+                        Some(BridgeVar::Damping(m)) => {
+                            panic!("{} decodes as mode {m}", b.name(n, k))
+                        }
                         None => panic!("{} does not decode", b.name(n, k)),
                     }
                 }
@@ -210,5 +247,16 @@ mod tests {
         }
         assert_eq!(slots, (0..l.n_outputs()).collect::<Vec<_>>());
         assert_eq!(l.decode((14 * 7 + 5 * 3 + 2 * 4) as u32), None);
+        // the damping parameters from PARAM_BASE, as many as there are modes
+        assert_eq!(
+            l.decode(PARAM_BASE),
+            None,
+            "a layout without resources has none"
+        );
+        let mut m = l.clone();
+        m.n_modes = 3;
+        assert_eq!(m.decode(PARAM_BASE + 2), Some(BridgeVar::Damping(2)));
+        assert_eq!(m.decode(PARAM_BASE + 3), None);
+        assert_eq!(BridgeLayout::damping_name(0), "mode[1].damping_ratio");
     }
 }

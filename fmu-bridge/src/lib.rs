@@ -257,6 +257,28 @@ impl BridgeFmu {
         }
     }
 
+    /// Sets the damping ratio of mode `n` (before initialisation ends): the modal model is
+    /// made again with it, as a scenario with that damping makes it.
+    fn set_damping(&mut self, n: usize, value: f64) -> Result<(), String> {
+        let name = BridgeLayout::damping_name(n);
+        if self.initialized {
+            return Err(format!("parameter {name} is fixed after initialisation"));
+        }
+        if !(0.0..1.0).contains(&value) {
+            return Err(format!("parameter {name} = {value} must lie in [0, 1)"));
+        }
+        Arc::make_mut(&mut self.res).modal.damping[n] = value;
+        let track = self.side.track.clone();
+        let wind = self.side.deck_wind.clone();
+        self.side = BridgeSide::new(Arc::new(self.res.modal.clone()), track);
+        self.side.take_wind_from_inputs();
+        if let (Some(new), Some(old)) = (self.side.deck_wind.as_mut(), wind) {
+            *new = old;
+        }
+        self.dirty = true;
+        Ok(())
+    }
+
     /// Makes the rail-motion outputs current.
     fn refresh(&mut self) {
         if !self.dirty {
@@ -343,6 +365,7 @@ impl FmuModel for BridgeFmu {
             return Err(format!("input {name} = {value} is not finite"));
         }
         match var {
+            Some(BridgeVar::Damping(n)) => return self.set_damping(n, value),
             Some(BridgeVar::Wheel { w, k }) => *wheel_channel(&mut self.inputs[w], k) = value,
             Some(BridgeVar::Wind { j, k }) => {
                 self.side
@@ -401,6 +424,7 @@ impl FmuModel for BridgeFmu {
                 self.refresh_slots(slot..slot + 1);
                 Ok(self.outputs[slot])
             }
+            Some(BridgeVar::Damping(n)) => Ok(self.res.modal.damping[n]),
             None => Err(format!("unknown value reference {vr}")),
         }
     }

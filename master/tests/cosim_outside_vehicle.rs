@@ -291,3 +291,33 @@ fn jacobi_with_the_outside_vehicle_equals_a_plain_fmpy_loop_and_is_first_order()
     }
     assert!(errors[2] > 1e-6, "the splitting error must be visible");
 }
+
+/// `tests/c-fmu/build-fmu.sh`, the documented way to build the outside vehicle FMU, gives an
+/// FMU that `tbi simulate` runs exactly as the tests' own build of the same C source.
+#[test]
+fn the_build_script_makes_the_outside_vehicle_fmu() {
+    let dir = scratch("build-fmu-script");
+    std::fs::create_dir_all(&dir).unwrap();
+    let fmu = dir.join("vehicle.fmu");
+    run_ok(
+        std::process::Command::new("bash")
+            .arg(repo_path("tests/c-fmu/build-fmu.sh"))
+            .arg("sprung_mass")
+            .arg(&fmu),
+    );
+    let ours = build_fmu(&Variant::model("sprung_mass", "sprung_mass"));
+    let simulate = |f: &Path, out: &Path| {
+        run_ok(
+            tbi_command()
+                .arg("simulate")
+                .arg(f)
+                .args(["--stop-time", "0.5", "--output"])
+                .arg(out),
+        );
+        std::fs::read_to_string(out).unwrap()
+    };
+    let a = simulate(&fmu, &dir.join("script.csv"));
+    let b = simulate(&ours, &dir.join("tests.csv"));
+    assert!(a.lines().count() > 10);
+    assert_eq!(a, b);
+}

@@ -307,3 +307,100 @@ fn the_implicit_scheme_refuses_an_fmu_that_cannot_roll_back() {
             .arg(dir.join("j.csv")),
     );
 }
+
+/// The bridge FMU's modal damping ratios are parameters (`mode[n].damping_ratio`): SSD
+/// bindings of them change the result as a scenario with that damping does (1e-10 of each
+/// column's largest value), and `--set` does the same; a ratio out of [0, 1) is refused by
+/// name.
+#[test]
+fn bindings_of_the_bridge_damping_equal_a_scenario_with_it() {
+    let dir = scratch("cosim-damping");
+    let ssp = export(&dir);
+    let text = std::fs::read_to_string(yang_yau()).unwrap();
+    assert!(
+        text.contains("damping_ratio = 0.0"),
+        "yang-yau.toml is undamped"
+    );
+    let damped_text = text.replace("damping_ratio = 0.0", "damping_ratio = 0.02");
+    let damped = dir.join("damped.toml");
+    std::fs::write(&damped, &damped_text).unwrap();
+    run_ok(
+        tbi_command()
+            .arg("export")
+            .arg(&damped)
+            .arg("--out")
+            .arg(dir.join("damped-fmus")),
+    );
+    let want = cosim(
+        &dir.join("damped-fmus/system.ssp"),
+        &dir.join("want.csv"),
+        &[],
+    );
+    let modes = 20;
+    let parameters: String = (1..=modes)
+        .map(|n| {
+            format!(
+                r#"<ssv:Parameter name="mode[{n}].damping_ratio"><ssv:Real value="0.02"/></ssv:Parameter>"#
+            )
+        })
+        .collect();
+    let binding = format!(
+        r#"<ssd:Component name="bridge" type="application/x-fmu-sharedlibrary" source="resources/bridge.fmu">
+        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>
+          <ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="damping">
+            <ssv:Parameters>{parameters}</ssv:Parameters>
+          </ssv:ParameterSet>
+        </ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#
+    );
+    let bound = edited(&ssp, &dir.join("bound.ssp"), |ssd| {
+        ssd.replace(
+            r#"<ssd:Component name="bridge" type="application/x-fmu-sharedlibrary" source="resources/bridge.fmu">"#,
+            &binding,
+        )
+    });
+    let got = cosim(&bound, &dir.join("bound.csv"), &[]);
+    let sets: Vec<String> = (1..=modes)
+        .map(|n| format!("bridge.mode[{n}].damping_ratio=0.02"))
+        .collect();
+    let mut extra: Vec<&str> = Vec::new();
+    for s in &sets {
+        extra.extend(["--set", s.as_str()]);
+    }
+    let set = cosim(&ssp, &dir.join("set.csv"), &extra);
+    let undamped = cosim(&ssp, &dir.join("undamped.csv"), &[]);
+    for column in ["bridge.probe[1].z", "train.ws[1].F_z", "bridge.ws[1].z_dd"] {
+        let w = want.column(column);
+        let (b, s) = (
+            worst(&got.column(column), &w),
+            worst(&set.column(column), &w),
+        );
+        println!("{column}: binding {b:e}, --set {s:e}");
+        assert!(
+            b <= 1e-10 && s <= 1e-10,
+            "{column}: binding {b:e}, --set {s:e}"
+        );
+        assert!(
+            worst(&undamped.column(column), &w) > 1e-3,
+            "{column}: damping changes it"
+        );
+    }
+    // a ratio out of range, by name
+    let r = tbi_tests::run(
+        tbi_command()
+            .arg("cosim")
+            .arg(&ssp)
+            .args([
+                "--quiet",
+                "--set",
+                "bridge.mode[2].damping_ratio=1.5",
+                "--output",
+            ])
+            .arg(dir.join("bad.csv")),
+    );
+    let err = tbi_tests::text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("mode[2].damping_ratio") && err.contains("1.5"),
+        "{err}"
+    );
+}
