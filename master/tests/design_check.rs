@@ -415,34 +415,18 @@ fn the_report_an_engineer_files() {
         assert!(expected >= 1);
     }
     // headless Chromium: no console message; a screenshot among the test artifacts
-    let browser = {
-        let out =
-            run(std::process::Command::new("bash")
-                .arg(tbi_tests::repo_path("tests/browser/setup.sh")));
-        assert!(out.status.success(), "{}", text(&out.stderr));
-        PathBuf::from(text(&out.stdout).lines().last().unwrap().trim())
-    };
     let artifacts = tbi_tests::paths::target_dir().join("test-artifacts");
     std::fs::create_dir_all(&artifacts).unwrap();
     let shot = artifacts.join("design-check-report.png");
     let _ = std::fs::remove_file(&shot);
-    let out = run(std::process::Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--enable-logging=stderr",
-            "--v=0",
-            "--window-size=1100,4200",
-        ])
-        .arg(format!("--user-data-dir={}", dir.join("profile").display()))
-        .arg(format!("--screenshot={}", shot.display()))
-        .arg(format!("file://{}", report.display())));
+    let out = tbi_tests::browser::open(
+        &report,
+        &dir.join("profile"),
+        &[
+            "--window-size=1100,4200".to_string(),
+            format!("--screenshot={}", shot.display()),
+        ],
+    );
     let log = text(&out.stderr);
     assert!(out.status.success(), "chromium failed:\n{log}");
     assert!(!log.contains("CONSOLE"), "console messages:\n{log}");

@@ -376,18 +376,6 @@ fn static_displacement_and_dynamic_enhancement() {
     );
 }
 
-/// The browser of tests/browser/setup.sh (installed once by the test command).
-fn browser() -> PathBuf {
-    let out =
-        run(std::process::Command::new("bash").arg(tbi_tests::repo_path("tests/browser/setup.sh")));
-    assert!(
-        out.status.success(),
-        "tests/browser/setup.sh: {}",
-        text(&out.stderr)
-    );
-    PathBuf::from(text(&out.stdout).lines().last().expect("a path").trim())
-}
-
 /// `report.html` is one self-contained file that a headless Chromium renders without a
 /// console message, with its four charts, the checks and the table of maxima.
 #[test]
@@ -407,23 +395,11 @@ fn the_report_renders_in_a_headless_browser() {
     for needle in ["src=\"http", "href=\"http", "<script", "<link", "<img"] {
         assert!(!html.contains(needle), "report.html has {needle}");
     }
-    let profile = dir.join("chromium-profile");
-    let out = run(std::process::Command::new(browser())
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--enable-logging=stderr",
-            "--v=0",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--dump-dom")
-        .arg(format!("file://{}", report.display())));
+    let out = tbi_tests::browser::open(
+        &report,
+        &dir.join("chromium-profile"),
+        &["--dump-dom".to_string()],
+    );
     let (dom, log) = (text(&out.stdout), text(&out.stderr));
     assert!(out.status.success(), "chromium failed:\n{log}");
     assert!(!log.contains("CONSOLE"), "console messages:\n{log}");

@@ -16,6 +16,7 @@
 //! dev-dependency of `tbi` (master) without a cycle; the tests of this package itself
 //! dev-depend on `tbi`.
 
+pub mod browser;
 pub mod fmpy;
 pub mod fmu;
 pub mod fuzz;
