@@ -305,34 +305,55 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         )
         .into());
     }
-    let mut csv = crate::outdir::NamedFile::create(&output)?;
-    let header: Vec<&str> = std::iter::once("time")
-        .chain(columns.iter().map(|c| c.0.as_str()))
-        .collect();
-    writeln!(csv, "{}", header.join(","))?;
-    let sys = &mut wired.system;
-    let mut rows = Rows::new(&columns, sys.participants.len());
-    let mut scheme = build_scheme(&cfg);
-    scheme.initialize(sys)?;
-    rows.write(sys, start, &mut csv)?;
-    let mut stats = CouplingStatistics::new();
-    let mut report = crate::coupling::AdvanceReport::default();
-    let pb = crate::progress::bar(steps, !args.quiet);
-    for k in 1..=steps {
-        let (t, t1, hk) = communication_step(start, stop, h, k, steps);
-        crate::interrupt::check(t)?;
-        advance_into(scheme.as_mut(), sys, t, hk, cfg.policy(hk), &mut report)
-            .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
-        stats.record(&report);
-        if k.is_multiple_of(every) || k == steps {
-            rows.write(sys, t1, &mut csv)?;
+    let partial = crate::outdir::with_suffix(&output, ".partial");
+    let sidecar = crate::outdir::with_suffix(&output, ".json");
+    let failure = crate::outdir::with_suffix(&partial, ".json");
+    crate::outdir::refuse_inputs(
+        &[
+            output.clone(),
+            sidecar.clone(),
+            partial.clone(),
+            failure.clone(),
+        ],
+        &system_inputs(&args, &open),
+    )?;
+    // rows stream into <output>.partial, renamed at success: a failed run leaves an earlier
+    // result and its side-car as they were, and says what it computed beside its .partial
+    let mut csv = crate::outdir::NamedFile::create(&partial)?;
+    let stepped = step_and_record(
+        &mut wired.system,
+        &columns,
+        &cfg,
+        (start, stop, h, steps, every),
+        &mut csv,
+        args.quiet,
+    )
+    .and_then(|stats| {
+        csv.flush()?;
+        Ok(stats)
+    });
+    let stats = match stepped {
+        Ok(stats) => stats,
+        Err(e) => {
+            let _ = csv.flush();
+            let said = serde_json::json!({
+                "system": open.origin,
+                "status": "failed",
+                "error": e.to_string(),
+                "rows": partial.display().to_string(),
+            });
+            let _ = crate::outdir::write_atomically(
+                &failure,
+                serde_json::to_string_pretty(&said)?.as_bytes(),
+            );
+            return Err(format!(
+                "{e} (the rows computed so far are in {}; {} is left as it was)",
+                partial.display(),
+                output.display()
+            )
+            .into());
         }
-        if k % 256 == 0 {
-            pb.set_position(k as u64);
-        }
-    }
-    pb.finish_and_clear();
-    csv.flush()?;
+    };
     let lagged = lagged_connections(&wired.system, cfg.scheme, &open.ssd.components);
     let summary = serde_json::json!({
         "system": open.origin,
@@ -355,12 +376,14 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         "accepted_unconverged": stats.accepted_unconverged,
         "lagged_connections": lagged,
     });
-    let mut json_name = output.clone().into_os_string();
-    json_name.push(".json");
-    crate::outdir::write_atomically(
-        &PathBuf::from(json_name),
-        serde_json::to_string_pretty(&summary)?.as_bytes(),
-    )?;
+    // the side-car and the CSV replace an earlier pair together: the side-car written whole
+    // under a temporary name, the CSV renamed, then the side-car
+    let staged = crate::outdir::with_suffix(&sidecar, &format!(".tmp-{}", std::process::id()));
+    std::fs::write(&staged, serde_json::to_string_pretty(&summary)?)
+        .map_err(|e| format!("{}: {e}", staged.display()))?;
+    std::fs::rename(&partial, &output).map_err(|e| format!("{}: {e}", output.display()))?;
+    std::fs::rename(&staged, &sidecar).map_err(|e| format!("{}: {e}", sidecar.display()))?;
+    let _ = std::fs::remove_file(&failure);
     if cfg.scheme != SchemeKind::Implicit {
         let relative = stats.max_residual * cfg.rtol;
         eprintln!(
@@ -383,6 +406,70 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// The files a run reads, which no output may replace: the system file, and for an `.ssd`
+/// given directly the components' FMUs and `.ssv` files beside it (an `.ssp`'s are inside
+/// it).
+fn system_inputs(args: &CosimArgs, open: &crate::ssp::OpenSystem) -> Vec<(PathBuf, String)> {
+    let mut inputs = vec![(args.system.clone(), "the system".to_string())];
+    let archive = args
+        .system
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ssp"));
+    if !archive {
+        for c in &open.ssd.components {
+            inputs.push((
+                open.base.join(&c.source),
+                format!("the FMU of component \"{}\"", c.name),
+            ));
+            for f in &c.parameter_files {
+                inputs.push((
+                    open.base.join(f),
+                    format!("a parameter file of component \"{}\"", c.name),
+                ));
+            }
+        }
+    }
+    inputs
+}
+
+/// Initialise the coupling, then step from `start` to `stop` by `h`, writing a row after
+/// initialisation and every `every` steps (and after the last) into `csv`.
+fn step_and_record(
+    sys: &mut crate::coupling::System,
+    columns: &[(String, usize, u32, Option<Discrete>)],
+    cfg: &CouplingConfig,
+    (start, stop, h, steps, every): (f64, f64, f64, usize, usize),
+    csv: &mut crate::outdir::NamedFile,
+    quiet: bool,
+) -> Result<CouplingStatistics, Box<dyn std::error::Error>> {
+    let header: Vec<&str> = std::iter::once("time")
+        .chain(columns.iter().map(|c| c.0.as_str()))
+        .collect();
+    writeln!(csv, "{}", header.join(","))?;
+    let mut rows = Rows::new(columns, sys.participants.len());
+    let mut scheme = build_scheme(cfg);
+    scheme.initialize(sys)?;
+    rows.write(sys, start, csv)?;
+    let mut stats = CouplingStatistics::new();
+    let mut report = crate::coupling::AdvanceReport::default();
+    let pb = crate::progress::bar(steps, !quiet);
+    for k in 1..=steps {
+        let (t, t1, hk) = communication_step(start, stop, h, k, steps);
+        crate::interrupt::check(t)?;
+        advance_into(scheme.as_mut(), sys, t, hk, cfg.policy(hk), &mut report)
+            .map_err(|e| format!("co-simulation stopped at t = {t} s: {e}"))?;
+        stats.record(&report);
+        if k.is_multiple_of(every) || k == steps {
+            rows.write(sys, t1, csv)?;
+        }
+        if k % 256 == 0 {
+            pb.set_position(k as u64);
+        }
+    }
+    pb.finish_and_clear();
+    Ok(stats)
 }
 
 /// The steps per result row of `--output-interval dt` with step size `h`: `dt / h`, which must

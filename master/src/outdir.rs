@@ -168,3 +168,42 @@ impl Drop for TempDir {
         let _ = std::fs::remove_dir_all(&self.path);
     }
 }
+
+/// `path` with `suffix` appended to its file name (`out.csv` + `.partial`).
+pub fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(suffix);
+    PathBuf::from(name)
+}
+
+/// The file `path` names, resolved: the canonical path where it exists, else its folder's
+/// canonical path joined with its name.
+fn resolved(path: &Path) -> PathBuf {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return p;
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match (std::fs::canonicalize(parent), path.file_name()) {
+        (Ok(dir), Some(name)) => dir.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// Refuse to write any of `outputs` when it is one of `inputs` (`(path, what it is)`):
+/// an output never replaces the system, an FMU or a data file it was made from.
+pub fn refuse_inputs(outputs: &[PathBuf], inputs: &[(PathBuf, String)]) -> Result<(), String> {
+    for out in outputs {
+        let o = resolved(out);
+        if let Some((path, what)) = inputs.iter().find(|(p, _)| resolved(p) == o) {
+            return Err(format!(
+                "{}: this output would replace {what} {}; choose another --output",
+                out.display(),
+                path.display()
+            ));
+        }
+    }
+    Ok(())
+}

@@ -92,9 +92,13 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
                 .unwrap_or_else(|| "result".into());
             PathBuf::from(format!("{stem}_out.csv"))
         });
-        let mut partial_name = path.clone().into_os_string();
-        partial_name.push(".partial");
-        let partial = PathBuf::from(partial_name);
+        let partial = crate::outdir::with_suffix(&path, ".partial");
+        let mut inputs = vec![(args.fmu.clone(), "the FMU".to_string())];
+        if let Some(i) = &args.input {
+            inputs.push((i.clone(), "the --input file".to_string()));
+        }
+        crate::outdir::refuse_inputs(&[path.clone(), partial.clone()], &inputs)
+            .map_err(SimulateError::Invalid)?;
         let mut sink = LazyFile::new(&partial);
         let run = simulate_into(&fmu, &options, &mut sink);
         let io_error = |error| SimulateError::Io {

@@ -171,3 +171,160 @@ fn every_cosim_option_has_help() {
         assert!(help.contains(default), "{default}");
     }
 }
+
+/// `python3 -m zipfile -e ARCHIVE DIR`: an archive unpacked (the machine's Python).
+fn unpack(archive: &Path, into: &Path) {
+    run_ok(
+        std::process::Command::new("python3")
+            .args(["-m", "zipfile", "-e"])
+            .arg(archive)
+            .arg(into),
+    );
+}
+
+/// Outputs never destroy inputs or fake results: an `--output` (or its side-car) that is
+/// the system, a component's FMU or a parameter file is refused before any work; a run that
+/// fails after a good one leaves the good CSV and side-car as they were, its rows in
+/// `<output>.partial` and its failure in `<output>.partial.json`; `tbi simulate` refuses to
+/// write over its FMU or its `--input`.
+#[test]
+fn outputs_never_replace_inputs_or_earlier_results() {
+    require_fmu_libraries();
+    let dir = scratch("cosim-outputs");
+    run_ok(
+        tbi_command()
+            .args(["export", "--out"])
+            .arg(dir.join("fmus")),
+    );
+    let ssp = dir.join("fmus/system.ssp");
+    // an unpacked system with a parameter file bound to the train
+    let open = dir.join("open");
+    unpack(&ssp, &open);
+    std::fs::write(
+        open.join("speed.ssv"),
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="speed">
+  <ssv:Parameters><ssv:Parameter name="speed"><ssv:Real value="19.444444444444443"/></ssv:Parameter></ssv:Parameters>
+</ssv:ParameterSet>
+"#,
+    )
+    .unwrap();
+    let ssd = open.join("SystemStructure.ssd");
+    let written = std::fs::read_to_string(&ssd).unwrap();
+    let component = r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">"#;
+    assert!(written.contains(component));
+    std::fs::write(
+        &ssd,
+        written.replace(
+            component,
+            &format!(r#"{component}<ssd:ParameterBindings><ssd:ParameterBinding source="speed.ssv"/></ssd:ParameterBindings>"#),
+        ),
+    )
+    .unwrap();
+    let before = |p: &Path| std::fs::read(p).unwrap();
+    for (system, output, what) in [
+        (&ssp, ssp.clone(), "the system"),
+        (&ssd, ssd.clone(), "the system"),
+        (
+            &ssd,
+            open.join("resources/bridge.fmu"),
+            "the FMU of component \"bridge\"",
+        ),
+        (
+            &ssd,
+            open.join("speed.ssv"),
+            "a parameter file of component \"train\"",
+        ),
+        // the side-car of "speed" would be speed.json: write the CSV as the .ssv's stem
+        (
+            &ssd,
+            open.join("resources/train.fmu"),
+            "the FMU of component \"train\"",
+        ),
+    ] {
+        let kept = before(&output);
+        let r = run(tbi_command()
+            .arg("cosim")
+            .arg(system)
+            .args(["--quiet", "--stop-time", "0.1", "--output"])
+            .arg(&output));
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{}: {err}", output.display());
+        assert!(
+            err.contains(what) && err.contains("choose another --output"),
+            "{err}"
+        );
+        assert_eq!(before(&output), kept, "{} is untouched", output.display());
+    }
+    // the unpacked system with its parameter file runs
+    run_ok(
+        tbi_command()
+            .arg("cosim")
+            .arg(&ssd)
+            .args(["--quiet", "--stop-time", "0.1", "--output"])
+            .arg(dir.join("open.csv")),
+    );
+    // a good run, then a failing one into the same output
+    let out = dir.join("out.csv");
+    run_ok(
+        tbi_command()
+            .arg("cosim")
+            .arg(&ssp)
+            .args(["--quiet", "--stop-time", "1", "--output"])
+            .arg(&out),
+    );
+    let side = dir.join("out.csv.json");
+    let (good, good_side) = (before(&out), before(&side));
+    let r = run(tbi_command()
+        .arg("cosim")
+        .arg(&ssp)
+        .args([
+            "--quiet",
+            "--stop-time",
+            "5",
+            "--acceleration",
+            "constant",
+            "--max-iterations",
+            "2",
+            "--output",
+        ])
+        .arg(&out));
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("out.csv.partial") && err.contains("left as it was"),
+        "{err}"
+    );
+    assert_eq!(before(&out), good, "the earlier CSV");
+    assert_eq!(before(&side), good_side, "the earlier side-car");
+    let partial = std::fs::read_to_string(dir.join("out.csv.partial")).unwrap();
+    assert!(partial.starts_with("time,"), "{partial}");
+    let failure = read_json(&dir.join("out.csv.partial.json"));
+    assert_eq!(failure["status"], "failed");
+    assert!(failure["error"]
+        .as_str()
+        .unwrap()
+        .contains("did not converge"));
+    // tbi simulate: not over its FMU or its --input
+    let fmu = dir.join("fmus/bridge.fmu");
+    let kept = before(&fmu);
+    let r = run(tbi_command()
+        .arg("simulate")
+        .arg(&fmu)
+        .arg("--output")
+        .arg(&fmu));
+    assert_eq!(r.status.code(), Some(1), "{}", text(&r.stderr));
+    assert!(text(&r.stderr).contains("would replace the FMU"));
+    assert_eq!(before(&fmu), kept);
+    let input = dir.join("input.csv");
+    std::fs::write(&input, "time,ws[1].F_z\n0,0\n1,0\n").unwrap();
+    let r = run(tbi_command()
+        .arg("simulate")
+        .arg(&fmu)
+        .args(["--stop-time", "0.01", "--input"])
+        .arg(&input)
+        .arg("--output")
+        .arg(&input));
+    assert_eq!(r.status.code(), Some(1), "{}", text(&r.stderr));
+    assert!(text(&r.stderr).contains("would replace the --input file"));
+}
