@@ -263,14 +263,22 @@ fn runs_whose_estimate_passes_the_limits_are_refused_unless_allowed() {
 #[test]
 fn input_files_are_read_with_a_size_cap() {
     let c = Case::new("devzero");
-    c.assert_refused(&["run", "/dev/zero"], &["/dev/zero", "limit"]);
+    // a device is no file: refused before any byte is read
+    c.assert_refused(&["run", "/dev/zero"], &["/dev/zero", "a device"]);
+    // a regular file past the cap (16 MiB for a scenario; sparse, nothing written)
+    let big = c.work().join("big.toml");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len((16 << 20) + 1)
+        .unwrap();
+    c.assert_refused(&["run", big.to_str().unwrap()], &["big.toml", "limit"]);
     let s = c.scenario(&[(
         "irregularity = \"none\"",
         "irregularity = { file = \"/dev/zero\" }",
     )]);
     c.assert_refused(
         &["run", s.to_str().unwrap(), "--out", "out"],
-        &["track.irregularity", "limit"],
+        &["track.irregularity", "a device"],
     );
     let bad = c.work().join("bad.toml");
     std::fs::write(&bad, b"name = \"a\xff\"\n").unwrap();

@@ -64,3 +64,28 @@ fn a_typo_names_the_close_key() {
         "{err}"
     );
 }
+
+/// A scenario path that is a FIFO is refused at once, naming it (opening a FIFO would wait
+/// for a writer for ever).
+#[cfg(unix)]
+#[test]
+fn a_fifo_scenario_is_refused_at_once() {
+    let dir = scratch("fifo-scenario");
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("scenario.toml");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+    let started = std::time::Instant::now();
+    let r = run(tbi_command()
+        .arg("run")
+        .arg(&fifo)
+        .args(["--quiet", "--out"])
+        .arg(dir.join("out")));
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("scenario.toml") && err.contains("a FIFO"),
+        "{err}"
+    );
+    assert!(started.elapsed().as_secs_f64() < 10.0);
+}
