@@ -141,17 +141,6 @@ fn lagged_connections(
 /// How the side-car's residuals are measured.
 const RESIDUAL_MEASURE: &str = "weighted RMS of the change of the exchanged values in a step's last sweep (implicit) or of the defect between the lagged inputs and the outputs they stand for (explicit), each value over rtol·max|value of its group| + atol: 1 is the tolerance; the relative figure is that times rtol";
 
-/// `; did you mean "x"?` for the closest of `names` to `name` (normalised Damerau–Levenshtein
-/// similarity ≥ 0.5), or nothing.
-pub fn closest<'a>(name: &str, names: impl Iterator<Item = &'a str>) -> String {
-    names
-        .map(|n| (strsim::normalized_damerau_levenshtein(name, n), n))
-        .filter(|(score, _)| *score >= 0.5)
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, n)| format!("; did you mean \"{n}\"?"))
-        .unwrap_or_default()
-}
-
 fn split_name(item: &str, option: &str) -> Result<(String, String), String> {
     item.split_once('.')
         .map(|(c, v)| (c.to_owned(), v.to_owned()))
@@ -270,14 +259,20 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
             .ok_or_else(|| {
                 format!(
                     "--record {r}: the system has no component \"{c}\"{}",
-                    closest(&c, open.ssd.components.iter().map(|x| x.name.as_str()))
+                    crate::suggest::did_you_mean(
+                        &c,
+                        open.ssd.components.iter().map(|x| x.name.as_str())
+                    )
                 )
             })?;
         let md = wired.fmus[i].model_description();
         let var = md.variable(&v).ok_or_else(|| {
             format!(
                 "--record {r}: component \"{c}\" has no variable \"{v}\"{}",
-                closest(&v, md.model_variables.iter().map(|x| x.name.as_str()))
+                crate::suggest::did_you_mean(
+                    &v,
+                    md.model_variables.iter().map(|x| x.name.as_str())
+                )
             )
         })?;
         let kind = crate::ssp::exchanged_kind(&var.kind)

@@ -19,6 +19,7 @@ pub mod run;
 pub mod scenario;
 pub mod simulate;
 pub mod ssp;
+pub mod suggest;
 pub mod summary;
 pub mod suspension;
 pub mod sweep;

@@ -216,32 +216,22 @@ pub fn nodal_modes(s: &Scenario) -> Result<Option<(ModeSet, &ModalOptions, Strin
     }
 }
 
-/// Build the bridge of a scenario.
 /// The bridge's modes as the scenario keeps them: the `bridge.modes` lowest, then those
-/// [`crate::scenario::ModesRule`] keeps.
+/// [`crate::scenario::ModesRule`] keeps. The modes are computed once (an FE or file
+/// source's mode set is truncated, not solved again).
 pub fn build_bridge(s: &Scenario) -> Result<ModalBridge, InputError> {
-    let all = build_all_modes(s)?;
-    if s.modes_rule == crate::scenario::ModesRule::All {
-        return Ok(all);
-    }
-    let f = &all.frequencies_hz;
-    let ascending = f.windows(2).all(|w| w[0] <= w[1]);
-    let (considered, _) = tbi_dynamics::en1991::modes_considered(f);
-    if !ascending || considered >= all.n_modes() {
-        return Ok(all);
-    }
-    let mut fewer = s.clone();
-    fewer.bridge.set_modes(considered);
-    build_all_modes(&fewer)
-}
-
-/// The `bridge.modes` lowest modes of the scenario's bridge.
-fn build_all_modes(s: &Scenario) -> Result<ModalBridge, InputError> {
     let Some((set, o, source)) = nodal_modes(s)? else {
         let Bridge::SimplySupported(b) = &s.bridge else {
             unreachable!("nodal_modes covers the other kinds")
         };
-        return Ok(b.modal());
+        let all = b.modal();
+        let kept = modes_kept(s, &all.frequencies_hz);
+        if kept == all.n_modes() {
+            return Ok(all);
+        }
+        let mut fewer = b.clone();
+        fewer.modes = kept;
+        return Ok(fewer.modal());
     };
     if o.modes > set.modes.len() {
         return Err(InputError::field(
@@ -251,15 +241,29 @@ fn build_all_modes(s: &Scenario) -> Result<ModalBridge, InputError> {
             format!("{source} has only {} modes", set.modes.len()),
         ));
     }
+    let f: Vec<f64> = set.modes[..o.modes]
+        .iter()
+        .map(|m| m.frequency_hz)
+        .collect();
     Ok(ModalBridge::from_mode_set(
         &set,
-        o.modes,
+        modes_kept(s, &f),
         o.damping_ratio,
         o.damping_ratio_torsional,
         o.track_eccentricity_m,
         o.track_height_m,
         o.interpolation_points,
     ))
+}
+
+/// How many of the modes of frequencies `f` the scenario's modes rule keeps: all, or those
+/// up to max(30 Hz, 1.5 f₁, f₃) when they are in ascending order.
+fn modes_kept(s: &Scenario, f: &[f64]) -> usize {
+    let ascending = f.windows(2).all(|w| w[0] <= w[1]);
+    if s.modes_rule == crate::scenario::ModesRule::All || !ascending {
+        return f.len();
+    }
+    tbi_dynamics::en1991::modes_considered(f).0.min(f.len())
 }
 
 /// Build everything.

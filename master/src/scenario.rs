@@ -725,8 +725,7 @@ struct FileTrack {
 }
 
 /// serde's "unknown field `x`, expected one of `a`, `b`" (or "unknown variant") with the
-/// closest expected name: "…; did you mean `a`?" (normalised Damerau–Levenshtein
-/// similarity of at least 0.5).
+/// closest expected name: "…; did you mean `a`?" ([`crate::suggest::closest`]).
 pub fn with_suggestion(message: &str) -> String {
     let unknown = ["unknown field `", "unknown variant `"]
         .iter()
@@ -735,17 +734,12 @@ pub fn with_suggestion(message: &str) -> String {
     let Some(unknown) = unknown else {
         return message.to_string();
     };
-    let expected: Vec<&str> = message
+    let expected = message
         .split_once("expected")
-        .map(|(_, list)| list.split('`').skip(1).step_by(2).collect())
-        .unwrap_or_default();
-    let best = expected
-        .iter()
-        .map(|e| (strsim::normalized_damerau_levenshtein(unknown, e), *e))
-        .max_by(|a, b| a.0.total_cmp(&b.0));
-    match best {
-        Some((score, name)) if score >= 0.5 => format!("{message}; did you mean `{name}`?"),
-        _ => message.to_string(),
+        .map(|(_, list)| list.split('`').skip(1).step_by(2));
+    match expected.and_then(|names| crate::suggest::closest(unknown, names)) {
+        Some(name) => format!("{message}; did you mean `{name}`?"),
+        None => message.to_string(),
     }
 }
 

@@ -411,7 +411,7 @@ fn connectable_variable<'a>(
     let v = md.variable(name).ok_or_else(|| {
         format!(
             "{origin}: component \"{component}\" has no variable \"{name}\"{}",
-            crate::cosim_cmd::closest(name, md.model_variables.iter().map(|x| x.name.as_str()))
+            crate::suggest::did_you_mean(name, md.model_variables.iter().map(|x| x.name.as_str()))
         )
     })?;
     let kind = exchanged_kind(&v.kind).ok_or_else(|| {
@@ -623,7 +623,7 @@ pub fn wire(
         let i = *index.get(component).ok_or_else(|| {
             format!(
                 "--set {component}.{name}: the system has no component \"{component}\"{}",
-                crate::cosim_cmd::closest(
+                crate::suggest::did_you_mean(
                     component,
                     open.ssd.components.iter().map(|c| c.name.as_str())
                 )
@@ -637,7 +637,10 @@ pub fn wire(
         let var = md.variable(name).ok_or_else(|| {
             format!(
                 "{at}: component \"{c}\" has no variable \"{name}\"{}",
-                crate::cosim_cmd::closest(name, md.model_variables.iter().map(|x| x.name.as_str()))
+                crate::suggest::did_you_mean(
+                    name,
+                    md.model_variables.iter().map(|x| x.name.as_str())
+                )
             )
         })?;
         let settable = var.causality == Causality::Parameter

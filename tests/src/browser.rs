@@ -43,3 +43,10 @@ pub fn open(page: &Path, profile: &Path, extra: &[String]) -> Output {
             .arg(format!("file://{}", page.display())),
     )
 }
+
+/// A report page is one self-contained file: nothing loaded from elsewhere, no scripts.
+pub fn assert_self_contained(html: &str) {
+    for needle in ["src=\"http", "href=\"http", "<script", "<link", "<img"] {
+        assert!(!html.contains(needle), "the page has {needle}");
+    }
+}

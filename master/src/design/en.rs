@@ -22,7 +22,7 @@
 //! Only beam bridges (`kind = "simply_supported"` or `"beam"`) give the comparison; for the
 //! others the report says so.
 
-use super::{Row, Statics, Verdict};
+use super::{Row, Verdict};
 use crate::scenario::{Bridge, Scenario};
 use tbi_dynamics::en1991;
 use tbi_fe::beam::{ContinuousBeam, SpanSection};
@@ -122,7 +122,6 @@ pub fn compare(
     trains: &[String],
     rows: &[Row],
     o: &Options,
-    _statics: &Statics,
 ) -> Result<Option<Comparison>, String> {
     let (beam, x0) = match &s.bridge {
         Bridge::SimplySupported(b) => (

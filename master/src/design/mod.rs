@@ -128,6 +128,8 @@ pub struct Options {
 
 /// The result of a check, for the report.
 pub struct Outcome {
+    /// The first case's scenario: the bridge, damping, time step and probes of every case.
+    pub scenario: crate::scenario::Scenario,
     pub rows: Vec<Row>,
     pub bridge: tbi_dynamics::bridge::ModalBridge,
     /// Per train, in the order asked for: its resonance speeds in the range, km/h.
@@ -204,7 +206,7 @@ pub fn run(args: &SweepArgs, speeds: &[f64]) -> Result<Done, Box<dyn std::error:
     };
     let started = std::time::Instant::now();
     let out = crate::outdir::OutputDir::claim(&args.out)?;
-    let outcome = check(&source, &trains, speeds, &options, out.path())?;
+    let outcome = check(&source, &first, &trains, speeds, &options, out.path())?;
     let text = summary_text(&source, &outcome, &options, out.path());
     crate::outdir::write_atomically(&out.path().join("summary.txt"), text.as_bytes())?;
     let html = report::html(&source, &outcome, &options, out.path(), started)?;
@@ -218,19 +220,17 @@ pub fn run(args: &SweepArgs, speeds: &[f64]) -> Result<Done, Box<dyn std::error:
 }
 
 /// Run the check into `out`: the cases, the refinement, the kept runs, `envelope.csv` and
-/// the governing scenario files.
+/// the governing scenario files. `first` is the first case's scenario (its bridge is every
+/// case's).
 pub fn check(
     source: &Source,
+    first: &crate::scenario::Scenario,
     trains: &[String],
     speeds: &[f64],
     o: &Options,
     out: &Path,
 ) -> Result<Outcome, Box<dyn std::error::Error>> {
-    let first = source.scenario(&Case {
-        train: trains[0].clone(),
-        speed_kmh: speeds[0],
-    })?;
-    let bridge = crate::model::build_bridge(&first)?;
+    let bridge = crate::model::build_bridge(first)?;
     let (lo, hi) = speeds
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
@@ -250,7 +250,7 @@ pub fn check(
         }
         resonances.push((t.clone(), r));
     }
-    let statics = statics(source, trains, &bridge, &first)?;
+    let statics = statics(trains, &bridge, first)?;
     let estimated_bytes = estimate_disk(source, trains, &grid, o, out)?;
     let pb = crate::progress::counted(grid.len(), "cases", true);
     let evaluate = |t: &str, v: f64, point: Point| -> Result<Row, String> {
@@ -297,8 +297,9 @@ pub fn check(
         envelope_csv(&rows, &governing).as_bytes(),
     )?;
     keep_runs(source, trains, &rows, &governing, o, out)?;
-    let en = en::compare(&first, &bridge, trains, &rows, &o.en, &statics)?;
+    let en = en::compare(first, &bridge, trains, &rows, &o.en)?;
     Ok(Outcome {
+        scenario: first.clone(),
         rows,
         bridge,
         resonances,
@@ -315,12 +316,10 @@ pub fn check(
 pub type Statics = BTreeMap<String, BTreeMap<String, f64>>;
 
 fn statics(
-    source: &Source,
     trains: &[String],
     bridge: &tbi_dynamics::bridge::ModalBridge,
     first: &crate::scenario::Scenario,
 ) -> Result<Statics, String> {
-    let _ = source;
     let mut all = Statics::new();
     for t in trains {
         let axles = tbi_dynamics::hslm::hslm_a(t)?;

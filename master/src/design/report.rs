@@ -62,18 +62,13 @@ fn inputs(
     outcome: &Outcome,
     started: std::time::Instant,
 ) -> Vec<Vec<String>> {
-    let first = source
-        .scenario(&super::cases::Case {
-            train: outcome.rows[0].train.clone(),
-            speed_kmh: outcome.rows[0].speed_kmh,
-        })
-        .ok();
     let f = &outcome.bridge.frequencies_hz;
     let mut rows = vec![
         vec!["scenario file".into(), source.origin.clone()],
         vec!["SHA-256 of its bytes".into(), source.sha256.clone()],
     ];
-    if let Some(s) = &first {
+    {
+        let s = &outcome.scenario;
         rows.push(vec!["bridge".into(), bridge_text(s, &outcome.bridge)]);
         rows.push(vec!["damping".into(), damping_text(s, &outcome.bridge)]);
         rows.push(vec![
