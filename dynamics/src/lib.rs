@@ -25,7 +25,7 @@ pub mod hslm;
 pub mod interface;
 pub mod newmark;
 pub mod response;
-pub mod simd;
+pub use tbi_numerics::simd;
 pub mod solver;
 pub mod sparse;
 pub mod track;

@@ -49,6 +49,7 @@ pub mod harness;
 mod instance;
 pub mod library;
 pub mod logger;
+mod participant;
 pub mod simulate;
 
 pub use archive::UnpackLimits;
@@ -58,3 +59,4 @@ pub use fmi2::uri::file_uri;
 pub use instance::{Fmu, FmuState, Instance, InstantiateOptions, StatusKind, StepResult, PLATFORM};
 pub use library::{Library, LoadError};
 pub use logger::LogMessage;
+pub use participant::FmuParticipant;

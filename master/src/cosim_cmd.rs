@@ -1,5 +1,5 @@
 //! `tbi cosim SYSTEM.ssp`: run any SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the
-//! coupling algorithms of [`crate::coupling`] (see [`crate::ssp`] for what is read).
+//! coupling algorithms of [`tbi_coupling`] (see [`crate::ssp`] for what is read).
 //!
 //! Times and step: the command line, else the SSD (`DefaultExperiment`, and `step_size`
 //! of the coupling annotation); the step size is required. Coupling options: the
@@ -21,13 +21,13 @@
 //! step per pair of components (`lagged_connections`: for Gauss–Seidel the connections
 //! that close a cycle in the SSD's component order).
 
-use crate::coupling::CouplingStatistics;
-use crate::coupling::{
-    advance_into, build_scheme, AccelerationKind, CouplingConfig, Discrete, SchemeKind,
-};
 use std::io::Write;
 use std::path::PathBuf;
 use std::str::FromStr;
+use tbi_coupling::CouplingStatistics;
+use tbi_coupling::{
+    advance_into, build_scheme, AccelerationKind, CouplingConfig, Discrete, SchemeKind,
+};
 
 /// Command-line arguments of `tbi cosim`.
 #[derive(Debug, Clone, clap::Args)]
@@ -102,7 +102,7 @@ pub const EXPLICIT_DEFECT_NOTICE: f64 = 1e-3;
 /// from a component to itself or to one stepped before it, the connections that close a
 /// cycle of the connection graph; the implicit scheme iterates them all, lagging none.
 fn lagged_connections(
-    sys: &crate::coupling::System,
+    sys: &tbi_coupling::System,
     scheme: SchemeKind,
     components: &[crate::ssp::Component],
 ) -> Vec<serde_json::Value> {
@@ -432,7 +432,7 @@ fn system_inputs(args: &CosimArgs, open: &crate::ssp::OpenSystem) -> Vec<(PathBu
 /// Initialise the coupling, then step from `start` to `stop` by `h`, writing a row after
 /// initialisation and every `every` steps (and after the last) into `csv`.
 fn step_and_record(
-    sys: &mut crate::coupling::System,
+    sys: &mut tbi_coupling::System,
     columns: &[(String, usize, u32, Option<Discrete>)],
     cfg: &CouplingConfig,
     (start, stop, h, steps, every): (f64, f64, f64, usize, usize),
@@ -444,11 +444,11 @@ fn step_and_record(
         .collect();
     writeln!(csv, "{}", header.join(","))?;
     let mut rows = Rows::new(columns, sys.participants.len());
-    let mut scheme = build_scheme(cfg);
+    let mut scheme = build_scheme(cfg)?;
     scheme.initialize(sys)?;
     rows.write(sys, start, csv)?;
     let mut stats = CouplingStatistics::new();
-    let mut report = crate::coupling::AdvanceReport::default();
+    let mut report = tbi_coupling::AdvanceReport::default();
     let pb = crate::progress::bar(steps, !quiet);
     for k in 1..=steps {
         let (t, t1, hk) = communication_step(start, stop, h, k, steps);
@@ -542,7 +542,7 @@ impl Rows {
 
     fn write(
         &mut self,
-        sys: &mut crate::coupling::System,
+        sys: &mut tbi_coupling::System,
         t: f64,
         csv: &mut crate::outdir::NamedFile,
     ) -> Result<(), Box<dyn std::error::Error>> {

@@ -11,7 +11,6 @@
 //! resources. An FMU already in the folder is reused when its GUID matches and its packed
 //! shared object has the length and CRC-32 of the current library.
 
-use crate::coupling::CouplingConfig;
 use crate::model::Model;
 use crate::package::write_fmu;
 use fmi_export::dependencies::Declared;
@@ -25,6 +24,7 @@ use model_description::{
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use tbi_coupling::CouplingConfig;
 use tbi_dynamics::interface::{
     BridgeResources, Causality, ProbeSpec, TrainResources, Var, WindResources, BRIDGE_ID,
     BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WIND_ID, WIND_RESOURCE,
@@ -478,7 +478,7 @@ fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
         .unwrap_or(false)
 }
 
-/// The FMUs of the coupled system, in the order of [`crate::coupling::System`]'s
+/// The FMUs of the coupled system, in the order of [`tbi_coupling::System`]'s
 /// participants (the wind last, in a turbulent wind only).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Side {

@@ -4,7 +4,6 @@ pub mod bench;
 pub mod console;
 pub mod cosim;
 pub mod cosim_cmd;
-pub mod coupling;
 pub mod design;
 pub mod export;
 pub mod interrupt;

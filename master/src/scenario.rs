@@ -14,10 +14,10 @@
 //! [`crate::model::build`] → [`TrainResources::build`](tbi_dynamics::interface::TrainResources::build)
 //! → [`Train::x_at`](tbi_dynamics::train::Train::x_at).
 
-use crate::coupling::CouplingConfig;
 use crate::model::num;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+use tbi_coupling::CouplingConfig;
 use tbi_dynamics::bridge::SimplySupported;
 use tbi_dynamics::interface::TrainSpec;
 use tbi_dynamics::train::Speed;

@@ -35,10 +35,8 @@
 //! are exchanged until they no longer change (at most 50 rounds), so inputs start from the
 //! outputs they are connected to.
 
-use crate::cosim::FmuParticipant;
-use crate::coupling::exchange::Exchange;
-use crate::coupling::{Connection, CouplingConfig, Discrete, DiscreteConnection, System};
 use fmi_import::archive::UnpackedDir;
+use fmi_import::FmuParticipant;
 use fmi_import::{Fmu, InstantiateOptions, UnpackLimits};
 use model_description::{Causality, ModelDescription, Variability, VariableKind};
 use quick_xml::events::{BytesStart, Event};
@@ -46,6 +44,7 @@ use quick_xml::Reader;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use tbi_coupling::{Connection, CouplingConfig, Discrete, DiscreteConnection, System};
 
 /// The annotation type of the coupling options.
 pub const COUPLING_ANNOTATION: &str = "org.tbi.coupling";
@@ -433,41 +432,6 @@ pub(crate) fn exchanged_kind(kind: &VariableKind) -> Option<Option<Discrete>> {
     }
 }
 
-/// One Integer or Boolean (0/1) value of an instance.
-pub(crate) fn get_discrete(
-    inst: &mut fmi_import::Instance,
-    kind: Discrete,
-    vr: u32,
-) -> Result<i32, String> {
-    match kind {
-        Discrete::Integer => {
-            let mut v = [0];
-            inst.get_integer(&[vr], &mut v).map_err(|e| e.to_string())?;
-            Ok(v[0])
-        }
-        Discrete::Boolean => {
-            let mut v = [false];
-            inst.get_boolean(&[vr], &mut v).map_err(|e| e.to_string())?;
-            Ok(i32::from(v[0]))
-        }
-    }
-}
-
-/// Set one Integer or Boolean (0/1) input of an instance.
-pub(crate) fn set_discrete(
-    inst: &mut fmi_import::Instance,
-    kind: Discrete,
-    vr: u32,
-    value: i32,
-) -> Result<(), String> {
-    match kind {
-        Discrete::Integer => inst.set_integer(&[vr], &[value]),
-        Discrete::Boolean => inst.set_boolean(&[vr], &[value != 0]),
-    }
-    .map(drop)
-    .map_err(|e| e.to_string())
-}
-
 /// Unpacks the components' FMUs, reads their model descriptions and loads their libraries,
 /// as many side by side as the machine has cores (the archives are independent; no code of
 /// an FMU runs but its library's initialisers), each result in component order. They are
@@ -681,46 +645,14 @@ pub fn wire(
             .into_iter()
             .zip(&fmus)
             .map(|(inst, fmu)| {
-                Box::new(FmuParticipant::new(fmu, inst)) as Box<dyn crate::coupling::Participant>
+                Box::new(FmuParticipant::new(fmu, inst)) as Box<dyn tbi_coupling::Participant>
             })
             .collect(),
         connections,
         discrete,
     };
-    // Inputs start from the outputs they are connected to: every connected output read, then
-    // every input set (the coupling's exchange, one call per participant and direction),
-    // until a pass reads what the pass before it did (an FMU in initialisation mode may
-    // recompute all its outputs when one is read after an input has changed).
-    let text = |e: crate::coupling::CouplingError| e.to_string();
-    let mut ex = Exchange::new(&system).map_err(text)?;
-    let mut last: Vec<f64> = Vec::new();
-    for _ in 0..50 {
-        ex.read_all(&mut system).map_err(text)?;
-        let System {
-            participants,
-            discrete,
-            ..
-        } = &mut system;
-        let mut levels = vec![0; discrete.len()];
-        for (c, v) in discrete.iter().zip(&mut levels) {
-            participants[c.from]
-                .get_discrete(c.kind, &[c.from_vr], std::slice::from_mut(v))
-                .map_err(text)?;
-        }
-        ex.write_all(&mut system).map_err(text)?;
-        for (c, &v) in system.discrete.iter().zip(&levels) {
-            system.participants[c.to]
-                .set_discrete(c.kind, &[c.to_vr], &[v])
-                .map_err(text)?;
-        }
-        let now: Vec<f64> = (ex.values.iter().copied())
-            .chain(levels.iter().map(|&v| f64::from(v)))
-            .collect();
-        if now == last {
-            break;
-        }
-        last = now;
-    }
+    let text = |e: tbi_coupling::CouplingError| e.to_string();
+    tbi_coupling::settle_inputs(&mut system).map_err(text)?;
     for p in &mut system.participants {
         p.exit_initialization().map_err(text)?;
     }

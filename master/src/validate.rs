@@ -9,12 +9,12 @@
 //! same, and `validation_worst.svg` overlays the worst column of both runs with their
 //! difference. With `--tolerance`, a worst difference above it makes the command fail.
 
-use crate::coupling::{AccelerationKind, SchemeKind};
 use crate::model::Limits;
 use crate::plots::History;
 use crate::scenario::SolverKind;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
+use tbi_coupling::{AccelerationKind, SchemeKind};
 
 /// Command-line arguments of `tbi validate`.
 #[derive(Debug, Clone, clap::Args)]

@@ -68,6 +68,7 @@ pub use config::{
     SchemeKind,
 };
 pub use convergence::WeightedRms;
+pub use exchange::settle_inputs;
 pub use gauss_seidel::GaussSeidel;
 pub use implicit::{Implicit, Predictor};
 pub use jacobi::Jacobi;

@@ -95,7 +95,7 @@ pub fn mul_columns_pair(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-pub(crate) unsafe fn first_lanes(r: usize) -> std::arch::x86_64::__m256i {
+pub unsafe fn first_lanes(r: usize) -> std::arch::x86_64::__m256i {
     let on = |j: usize| if j < r { -1 } else { 0 };
     std::arch::x86_64::_mm256_setr_epi64x(on(0), on(1), on(2), on(3))
 }

@@ -194,7 +194,7 @@ impl Implicit {
 
     fn bind(&mut self, sys: &System) -> Result<(), CouplingError> {
         if let Some(c) = sys.discrete.first() {
-            return Err(CouplingError::new(format!(
+            return Err(CouplingError::Wiring(format!(
                 "the implicit scheme iterates Real connections only, and the system has {} \
                  Integer/Boolean connection(s), e.g. {} ({}); use the gauss-seidel or jacobi \
                  scheme",
@@ -377,7 +377,7 @@ impl CouplingScheme for Implicit {
             }
             self.acceleration
                 .perform(&self.x, &self.x_tilde, &self.scale, &mut self.next);
-            if fmi_import::first_non_finite(&self.next).is_some() {
+            if self.next.iter().any(|v| !v.is_finite()) {
                 // The acceleration broke down; report the last sweep as not converged.
                 breakdown = true;
                 break;
@@ -431,8 +431,8 @@ fn snap_to_outputs(x_tilde: &[f64], next: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coupling::acceleration::ConstantRelaxation;
-    use crate::coupling::system::{Connection, Participant};
+    use crate::acceleration::ConstantRelaxation;
+    use crate::system::{Connection, Participant};
 
     /// Bits of the position input the deck was stepped with, in order.
     type Seen = std::rc::Rc<std::cell::RefCell<Vec<u64>>>;

@@ -135,14 +135,14 @@ impl Exchange {
         };
         for (i, c) in sys.connections.iter().enumerate() {
             if c.from >= np || c.to >= np {
-                return Err(CouplingError::new(format!(
+                return Err(CouplingError::Wiring(format!(
                     "connection {i} ({} vr {} -> {} vr {}) refers to a participant that does not \
                      exist (the system has {np})",
                     c.from, c.from_vr, c.to, c.to_vr
                 )));
             }
             if ex.in_vrs[c.to].contains(&c.to_vr) {
-                return Err(CouplingError::new(format!(
+                return Err(CouplingError::Wiring(format!(
                     "input vr {} of participant '{}' is fed by more than one connection",
                     c.to_vr,
                     sys.participants[c.to].name()
@@ -277,17 +277,16 @@ impl Exchange {
         let run = &self.out_runs[p];
         self.run_values.resize(run.vrs.len(), 0.0);
         part.get_real(&run.vrs, &mut self.run_values)
-            .map_err(|e| CouplingError::new(format!("{}: get_real failed: {e}", part.name())))?;
+            .map_err(|e| CouplingError::call(part.name(), "get_real", e))?;
         // connected output k is run_values[at[k]]
         let values = &self.run_values;
-        if !part.get_real_refuses_non_finite() && fmi_import::first_non_finite(values).is_some() {
+        if !part.get_real_refuses_non_finite() && values.iter().any(|v| !v.is_finite()) {
             if let Some(k) = (0..vrs.len()).find(|&k| !values[run.at[k]].is_finite()) {
-                return Err(CouplingError::new(format!(
-                    "{}: output vr {} is not finite ({})",
-                    part.name(),
-                    vrs[k],
-                    values[run.at[k]]
-                )));
+                return Err(CouplingError::NonFinite {
+                    participant: part.name().to_owned(),
+                    vr: vrs[k],
+                    value: values[run.at[k]],
+                });
             }
         }
         match self.runs[p].outputs_to_slots {
@@ -349,7 +348,7 @@ impl Exchange {
         };
         let part = &mut sys.participants[p];
         part.set_real(vrs, values)
-            .map_err(|e| CouplingError::new(format!("{}: set_real failed: {e}", part.name())))
+            .map_err(|e| CouplingError::call(part.name(), "set_real", e))
     }
 
     /// Writes every participant's inputs from the current slot values.
@@ -396,10 +395,44 @@ pub(crate) fn same_time(a: f64, b: f64, h: f64) -> bool {
     (a - b).abs() <= 1e-6 * h.abs().max(f64::MIN_POSITIVE)
 }
 
+/// Sets every connected input from the output it is connected to, before the first step:
+/// every connected output read, then every input set (one call per participant and
+/// direction), Real and Integer/Boolean alike, until a pass reads what the pass before it did
+/// or after 50 passes (an FMU in initialisation mode may recompute all its outputs when one is
+/// read after an input has changed).
+pub fn settle_inputs(system: &mut System) -> Result<(), CouplingError> {
+    let mut ex = Exchange::new(system)?;
+    let mut last: Vec<f64> = Vec::new();
+    for _ in 0..50 {
+        ex.read_all(system)?;
+        let System {
+            participants,
+            discrete,
+            ..
+        } = &mut *system;
+        let mut levels = vec![0; discrete.len()];
+        for (c, v) in discrete.iter().zip(&mut levels) {
+            participants[c.from].get_discrete(c.kind, &[c.from_vr], std::slice::from_mut(v))?;
+        }
+        ex.write_all(system)?;
+        for (c, &v) in system.discrete.iter().zip(&levels) {
+            system.participants[c.to].set_discrete(c.kind, &[c.to_vr], &[v])?;
+        }
+        let now: Vec<f64> = (ex.values.iter().copied())
+            .chain(levels.iter().map(|&v| f64::from(v)))
+            .collect();
+        if now == last {
+            break;
+        }
+        last = now;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coupling::system::{Connection, Participant, StepStatus};
+    use crate::system::{Connection, Participant, StepStatus};
     use std::cell::RefCell;
     use std::rc::Rc;
 

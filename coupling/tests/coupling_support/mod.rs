@@ -13,7 +13,7 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use tbi::coupling::{
+use tbi_coupling::{
     advance, Connection, CouplingError, CouplingScheme, CouplingStatistics, OnNonConvergence,
     Participant, StepStatus, System,
 };

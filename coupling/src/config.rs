@@ -89,11 +89,11 @@ macro_rules! keywords {
                     other => {
                         let expected: Vec<String> =
                             [$($text),+].iter().map(|t| format!("\"{t}\"")).collect();
-                        Err(CouplingError::new(format!(
-                            "{} = {other:?} is not one of {}",
-                            $key,
-                            expected.join(", ")
-                        )))
+                        Err(CouplingError::Keyword {
+                            key: $key,
+                            value: other.to_owned(),
+                            expected: expected.join(", "),
+                        })
                     }
                 }
             }
@@ -205,7 +205,11 @@ impl CouplingConfig {
     /// Checks the ranges of all fields; the error names the key and the value.
     pub fn validate(&self) -> Result<(), CouplingError> {
         let bad = |key: &str, value: &dyn fmt::Display, rule: &str| {
-            Err(CouplingError::new(format!("{key} = {value}: {rule}")))
+            Err(CouplingError::Config {
+                key: key.to_owned(),
+                value: value.to_string(),
+                rule: rule.to_owned(),
+            })
         };
         if !(self.relaxation > 0.0 && self.relaxation <= 1.0) {
             return bad("relaxation", &self.relaxation, "must be in (0, 1]");
@@ -316,17 +320,11 @@ pub fn build_acceleration(config: &CouplingConfig) -> Box<dyn Acceleration> {
     }
 }
 
-/// The coupling scheme selected by `config`.
-///
-/// # Panics
-///
-/// If `config` fails [`CouplingConfig::validate`] (deserialized configurations are validated
-/// already).
-pub fn build_scheme(config: &CouplingConfig) -> Box<dyn CouplingScheme> {
-    if let Err(e) = config.validate() {
-        panic!("invalid coupling configuration: {e}");
-    }
-    match config.scheme {
+/// The coupling scheme selected by `config`, or the error of [`CouplingConfig::validate`]
+/// (deserialized configurations are validated already).
+pub fn build_scheme(config: &CouplingConfig) -> Result<Box<dyn CouplingScheme>, CouplingError> {
+    config.validate()?;
+    Ok(match config.scheme {
         SchemeKind::Jacobi => Box::new(Jacobi::new(config.measure())),
         SchemeKind::GaussSeidel => Box::new(GaussSeidel::new(config.measure())),
         SchemeKind::Implicit => Box::new(
@@ -337,5 +335,5 @@ pub fn build_scheme(config: &CouplingConfig) -> Box<dyn CouplingScheme> {
             )
             .with_predictor(config.predictor),
         ),
-    }
+    })
 }

@@ -101,7 +101,7 @@ pub fn advance_into(
     report.steps.clear();
     report.rejected.clear();
     if !(h > 0.0 && h.is_finite() && t.is_finite()) {
-        return Err(CouplingError::new(format!(
+        return Err(CouplingError::Step(format!(
             "invalid coupling step t = {t} s, h = {h} s"
         )));
     }
@@ -123,10 +123,10 @@ fn attempt(
     }
     let what = failure(scheme.name(), t, h, &r);
     match policy {
-        OnNonConvergence::Stop => Err(CouplingError::new(format!("{what}; policy: stop"))),
+        OnNonConvergence::Stop => Err(CouplingError::Step(format!("{what}; policy: stop"))),
         OnNonConvergence::Accept => {
             if r.discarded_by.is_some() || !r.residual.is_finite() {
-                return Err(CouplingError::new(format!(
+                return Err(CouplingError::Step(format!(
                     "{what}; policy: accept, but a discarded or non-finite step cannot be kept"
                 )));
             }
@@ -136,7 +136,7 @@ fn attempt(
         OnNonConvergence::Retry { min_step } => {
             let half = 0.5 * h;
             if half < min_step {
-                return Err(CouplingError::new(format!(
+                return Err(CouplingError::Step(format!(
                     "{what}; policy: retry, but h/2 = {half} s is below min_step = {min_step} s"
                 )));
             }

@@ -6,11 +6,11 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use coupling_support::{relative_error, Case, Discarding};
-use tbi::coupling::acceleration::{Aitken, ConstantRelaxation, IqnIls};
-use tbi::coupling::{
+use tbi_coupling::acceleration::{Aitken, ConstantRelaxation, IqnIls};
+use tbi_coupling::{
     advance, build_scheme, AccelerationKind, AdvanceReport, Connection, CouplingConfig,
-    CouplingScheme, CouplingStatistics, Implicit, NonConvergenceAction, OnNonConvergence,
-    Predictor, SchemeKind, StepReport, Substep, System, WeightedRms,
+    CouplingError, CouplingScheme, CouplingStatistics, Implicit, NonConvergenceAction,
+    OnNonConvergence, Predictor, SchemeKind, StepReport, Substep, System, WeightedRms,
 };
 
 const H: f64 = 1e-3;
@@ -33,7 +33,7 @@ fn coupling_stop_names_time_residual_and_iterations() {
     let case = retry_case();
     let (mut sys, _) = case.system();
     // Five good steps, then a scheme limited to 2 sweeps takes over at t = 5 ms.
-    let mut good = build_scheme(&CouplingConfig::default());
+    let mut good = build_scheme(&CouplingConfig::default()).unwrap();
     good.initialize(&mut sys).unwrap();
     for k in 0..5 {
         advance(
@@ -156,7 +156,7 @@ fn coupling_discard_is_retried_or_reported() {
     let case = Case::track(2, 200.0, 2e9);
     // Retry: the implicit scheme rolls back and halves.
     let (mut sys, discards) = discarding_system(&case, 0.6 * H);
-    let mut scheme = build_scheme(&CouplingConfig::default());
+    let mut scheme = build_scheme(&CouplingConfig::default()).unwrap();
     scheme.initialize(&mut sys).unwrap();
     let policy = OnNonConvergence::Retry { min_step: H / 4.0 };
     let mut hs = Vec::new();
@@ -182,7 +182,7 @@ fn coupling_discard_is_retried_or_reported() {
     // Stop and accept: an error naming the participant.
     for policy in [OnNonConvergence::Stop, OnNonConvergence::Accept] {
         let (mut sys, _) = discarding_system(&case, 0.6 * H);
-        let mut scheme = build_scheme(&CouplingConfig::default());
+        let mut scheme = build_scheme(&CouplingConfig::default()).unwrap();
         scheme.initialize(&mut sys).unwrap();
         let err = advance(scheme.as_mut(), &mut sys, 0.0, H, policy)
             .unwrap_err()
@@ -192,7 +192,7 @@ fn coupling_discard_is_retried_or_reported() {
 
     // Explicit schemes keep no state to retry from.
     let (mut sys, _) = discarding_system(&case, 0.6 * H);
-    let mut gs = build_scheme(&toml::from_str("scheme = \"gauss-seidel\"").unwrap());
+    let mut gs = build_scheme(&toml::from_str("scheme = \"gauss-seidel\"").unwrap()).unwrap();
     gs.initialize(&mut sys).unwrap();
     let err = advance(gs.as_mut(), &mut sys, 0.0, H, policy)
         .unwrap_err()
@@ -211,7 +211,7 @@ fn coupling_bad_systems_are_rejected() {
         to: 2,
         to_vr: 0,
     });
-    let mut scheme = build_scheme(&CouplingConfig::default());
+    let mut scheme = build_scheme(&CouplingConfig::default()).unwrap();
     let err = scheme.initialize(&mut sys).unwrap_err().to_string();
     assert!(err.contains("does not exist"), "{err}");
 
@@ -233,8 +233,8 @@ fn coupling_bad_systems_are_rejected() {
 
     // Integer and Boolean values are not iterated: the implicit scheme refuses them
     let (mut sys, _) = case.system();
-    sys.discrete.push(tbi::coupling::DiscreteConnection {
-        kind: tbi::coupling::Discrete::Boolean,
+    sys.discrete.push(tbi_coupling::DiscreteConnection {
+        kind: tbi_coupling::Discrete::Boolean,
         from: 1,
         from_vr: 7,
         to: 0,
@@ -304,7 +304,7 @@ fn coupling_config_defaults_and_keys() {
         ("scheme = \"jacobi\"", "jacobi"),
     ] {
         let c: CouplingConfig = toml::from_str(text).unwrap();
-        assert_eq!(build_scheme(&c).name(), name);
+        assert_eq!(build_scheme(&c).unwrap().name(), name);
     }
 }
 
@@ -345,13 +345,23 @@ fn coupling_config_errors_name_key_and_value() {
 }
 
 #[test]
-#[should_panic(expected = "invalid coupling configuration: relaxation = 2")]
-fn coupling_build_scheme_rejects_invalid_config() {
+fn coupling_build_scheme_refuses_an_invalid_config_by_name() {
     let c = CouplingConfig {
         relaxation: 2.0,
         ..CouplingConfig::default()
     };
-    build_scheme(&c);
+    let err = build_scheme(&c)
+        .err()
+        .expect("relaxation 2 is out of range");
+    assert_eq!(
+        err,
+        CouplingError::Config {
+            key: "relaxation".into(),
+            value: "2".into(),
+            rule: "must be in (0, 1]".into()
+        }
+    );
+    assert_eq!(err.to_string(), "relaxation = 2: must be in (0, 1]");
 }
 
 #[test]
@@ -432,7 +442,7 @@ fn coupling_accelerations_on_a_seeded_random_linear_map() {
         };
         let measure = WeightedRms::new(1e-10, 1e-12);
         let mut sweeps = Vec::new();
-        let accelerations: Vec<Box<dyn tbi::coupling::acceleration::Acceleration>> =
+        let accelerations: Vec<Box<dyn tbi_coupling::acceleration::Acceleration>> =
             vec![Box::new(Aitken::new(0.5)), Box::new(IqnIls::new(0.5, 0))];
         for mut acc in accelerations {
             acc.initialize(n);

@@ -11,27 +11,69 @@ pub enum StepStatus {
     Discard,
 }
 
-/// A failure inside a participant or the algorithm, with enough context to act on.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CouplingError {
-    pub message: String,
+/// A failure inside a participant or the algorithm, with enough context to act on. Each
+/// variant's message names the participant, the call, the time or the key concerned.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CouplingError {
+    /// A configuration value out of its range.
+    #[error("{key} = {value}: {rule}")]
+    Config {
+        key: String,
+        value: String,
+        rule: String,
+    },
+    /// A configuration keyword that is not one of the accepted ones.
+    #[error("{key} = {value:?} is not one of {expected}")]
+    Keyword {
+        key: &'static str,
+        value: String,
+        expected: String,
+    },
+    /// Connections that do not fit the participants, or a scheme that cannot drive them.
+    #[error("{0}")]
+    Wiring(String),
+    /// A participant's call failed.
+    #[error("{participant}: {call} failed: {message}")]
+    Call {
+        participant: String,
+        call: String,
+        message: String,
+    },
+    /// A participant returned an output that is not finite.
+    #[error("{participant}: output vr {vr} is not finite ({value})")]
+    NonFinite {
+        participant: String,
+        vr: u32,
+        value: f64,
+    },
+    /// A participant discarded a step that cannot be retried.
+    #[error("{0}")]
+    Discarded(String),
+    /// A step that did not converge (or a step size that is not valid) under the configured
+    /// policy.
+    #[error("{0}")]
+    Step(String),
+    /// What a participant's own implementation reports.
+    #[error("{0}")]
+    Participant(String),
 }
 
 impl CouplingError {
+    /// A participant's own failure, in its words.
     pub fn new(message: impl Into<String>) -> Self {
-        Self {
-            message: message.into(),
+        Self::Participant(message.into())
+    }
+
+    /// The participant's call `call` failed with `e`.
+    pub fn call(participant: &str, call: impl Into<String>, e: impl fmt::Display) -> Self {
+        Self::Call {
+            participant: participant.to_owned(),
+            call: call.into(),
+            message: e.to_string(),
         }
     }
 }
-
-impl fmt::Display for CouplingError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.message)
-    }
-}
-
-impl std::error::Error for CouplingError {}
 
 /// One simulator in the loop. Value references are the participant's own.
 pub trait Participant {
@@ -73,7 +115,7 @@ pub trait Participant {
         _vrs: &[u32],
         _values: &mut [i32],
     ) -> Result<(), CouplingError> {
-        Err(CouplingError::new(format!(
+        Err(CouplingError::Wiring(format!(
             "{}: has no {kind} variables",
             self.name()
         )))
@@ -85,7 +127,7 @@ pub trait Participant {
         _vrs: &[u32],
         _values: &[i32],
     ) -> Result<(), CouplingError> {
-        Err(CouplingError::new(format!(
+        Err(CouplingError::Wiring(format!(
             "{}: has no {kind} variables",
             self.name()
         )))

@@ -9,7 +9,7 @@
 //! which reaches the fixed point in one update when `H` is affine and `J` exact; the next
 //! sweep confirms it. `J` is computed by the implicit scheme, by finite differences of each
 //! participant's step through rollback (conforming to FMI 2.0: see
-//! [`StepJacobian`](crate::coupling::jacobian::StepJacobian), which keeps the structure it
+//! [`StepJacobian`](crate::jacobian::StepJacobian), which keeps the structure it
 //! learns from step to step), whenever
 //! [`Acceleration::needs_jacobian`] says so: at the first step, after a change of the step
 //! size, and after a step that needed more than one update (the interface has drifted away

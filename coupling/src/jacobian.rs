@@ -251,7 +251,7 @@ impl Probe<'_> {
         part.restore_state()?;
         part.set_real(&self.ex.in_vrs[self.p], &u)?;
         if do_step(self.sys, self.p, self.t, self.h)? == StepStatus::Discard {
-            return Err(CouplingError::new(format!(
+            return Err(CouplingError::Discarded(format!(
                 "{} discarded a step while its Jacobian was probed at t = {} s",
                 self.sys.participants[self.p].name(),
                 self.t
@@ -445,7 +445,7 @@ fn sweep_with(
     for p in 0..sys.participants.len() {
         ex.write_inputs(sys, p, Some(x))?;
         if do_step(sys, p, t, h)? == StepStatus::Discard {
-            return Err(CouplingError::new(format!(
+            return Err(CouplingError::Discarded(format!(
                 "{} discarded the step at t = {t} s",
                 sys.participants[p].name()
             )));

@@ -14,7 +14,7 @@
 //! `D = diag(sᵢ)` is a per-variable scaling, positive and constant within a step, that makes
 //! variables of very different magnitude (forces ~1e5 N next to displacements ~1e-3 m)
 //! contribute alike; the implicit scheme derives it from the tolerances and the magnitude of
-//! each block of interface values (see [`Implicit`](crate::coupling::Implicit)).
+//! each block of interface values (see [`Implicit`](crate::Implicit)).
 //! [`ConstantRelaxation`] ignores it.
 //!
 //! Call sequence per step: [`Acceleration::begin_step`], then [`Acceleration::perform`] once per

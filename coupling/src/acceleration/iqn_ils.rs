@@ -34,7 +34,7 @@
 //!
 //! `D = diag(s)` is the per-variable scaling handed in by the scheme (`sᵢ = 1 / (rtol·X + atol)`
 //! with `X` the magnitude of the variable's block, normalised to `max sᵢ = 1`; see
-//! [`Implicit`](crate::coupling::Implicit)). Without it the least-squares problem would fit
+//! [`Implicit`](crate::Implicit)). Without it the least-squares problem would fit
 //! only the largest-magnitude variables (forces ~1e5 N) and ignore small ones (displacements
 //! ~1e-3 m). The columns are stored unscaled, so reused columns are scaled with the scaling of
 //! the step that uses them. The coefficients `c` are dimensionless and apply to the unscaled
@@ -199,7 +199,7 @@ impl Acceleration for IqnIls {
             for (&cj, col) in c.iter().zip(&self.window.columns) {
                 if cj != 0.0 {
                     // nᵢ + cⱼ wᵢ, vectorised where the processor allows (the same roundings)
-                    tbi_dynamics::simd::axpy(next, cj, &col.w);
+                    tbi_numerics::simd::axpy(next, cj, &col.w);
                 }
             }
         }

@@ -55,19 +55,15 @@ pub(crate) fn do_step(
     h: f64,
 ) -> Result<StepStatus, CouplingError> {
     let part = &mut sys.participants[p];
-    part.do_step(t, h).map_err(|e| {
-        CouplingError::new(format!(
-            "{}: do_step(t = {t}, h = {h}) failed: {e}",
-            part.name()
-        ))
-    })
+    part.do_step(t, h)
+        .map_err(|e| CouplingError::call(part.name(), format!("do_step(t = {t}, h = {h})"), e))
 }
 
 /// Saves the state of every participant into its rollback slot.
 pub fn save_all(sys: &mut System) -> Result<(), CouplingError> {
     for part in sys.participants.iter_mut() {
         part.save_state()
-            .map_err(|e| CouplingError::new(format!("{}: save_state failed: {e}", part.name())))?;
+            .map_err(|e| CouplingError::call(part.name(), "save_state", e))?;
     }
     Ok(())
 }
@@ -75,16 +71,15 @@ pub fn save_all(sys: &mut System) -> Result<(), CouplingError> {
 /// Restores every participant from its rollback slot.
 pub fn restore_all(sys: &mut System) -> Result<(), CouplingError> {
     for part in sys.participants.iter_mut() {
-        part.restore_state().map_err(|e| {
-            CouplingError::new(format!("{}: restore_state failed: {e}", part.name()))
-        })?;
+        part.restore_state()
+            .map_err(|e| CouplingError::call(part.name(), "restore_state", e))?;
     }
     Ok(())
 }
 
 /// Error for a discard in a scheme that keeps no state to roll back to.
 pub(crate) fn discard_error(sys: &System, scheme: &str, p: usize, t: f64, h: f64) -> CouplingError {
-    CouplingError::new(format!(
+    CouplingError::Discarded(format!(
         "{} discarded the step t = {t} s, h = {h} s; the {scheme} scheme keeps no saved state \
          to retry from (use the implicit scheme for rollback)",
         sys.participants[p].name()
