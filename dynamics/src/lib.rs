@@ -22,7 +22,6 @@ pub mod error {
 }
 pub mod en1991;
 pub mod hslm;
-pub mod interface;
 pub mod newmark;
 pub mod response;
 pub use tbi_numerics::simd;

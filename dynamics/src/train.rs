@@ -4,6 +4,10 @@
 //! back over all vehicles) sits at `offset_w` behind the first axle, which is at `x0` at
 //! `t = 0`, so `x_w(t) = x0 + v t − offset_w`.
 
+mod description;
+
+pub use description::{Crosswind, TrainDescription, TrainSpec};
+
 use crate::vehicle::LinearVehicle;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

@@ -7,9 +7,9 @@
 
 use nalgebra::Vector3;
 use std::sync::Arc;
-use tbi_dynamics::interface::{Crosswind, TrainResources, TrainSpec};
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::train::Speed;
+use tbi_dynamics::train::{Crosswind, TrainDescription, TrainSpec};
 use tbi_dynamics::vehicle::aero::{BodyLoads, VehicleAero};
 use tbi_dynamics::vehicle::coach::CoachParams;
 
@@ -52,7 +52,7 @@ fn check(side: &TrainSide, loads: &BodyLoads, weight: f64, when: &str) {
 #[test]
 fn wheel_loads_follow_the_body_loads_on_ground_deck_and_in_a_gust() {
     let params = CoachParams::xia2000();
-    let res = TrainResources {
+    let res = TrainDescription {
         spec: TrainSpec::Coaches {
             params: params.clone(),
             count: 1,

@@ -10,9 +10,8 @@
 //! | `deck[j]` | input | [`WIND_CHANNELS`] (turbulence at deck point j, from the wind FMU; only with `[wind] turbulence`) | after the probes |
 //! | `mode[n].damping_ratio` | parameter (fixed) | the damping ratio of mode n, – | from [`PARAM_BASE`] |
 
-use tbi_dynamics::interface::{
-    Block, Blocks, BridgeResources, Channel, Var, RAIL_CHANNELS, WHEEL_CHANNELS, WIND_CHANNELS,
-};
+use crate::BridgeResources;
+use fmu_contract::{Block, Blocks, Channel, Var, RAIL_CHANNELS, WHEEL_CHANNELS, WIND_CHANNELS};
 use tbi_dynamics::solver::partitioned::ProbeValues;
 
 /// `<fmiModelDescription description>` of the bridge FMU.
@@ -202,7 +201,7 @@ impl BridgeLayout {
         v.extend((0..self.n_modes).map(|n| Var {
             vr: PARAM_BASE + n as u32,
             name: Self::damping_name(n),
-            causality: tbi_dynamics::interface::Causality::Parameter,
+            causality: fmu_contract::Causality::Parameter,
             unit: "1".into(),
             description: format!(
                 "damping ratio of mode {} ({}, {} Hz)",

@@ -12,18 +12,17 @@
 // Index loops mirror the equations (q_n, ω_n, rows k of Ψ) and are kept on purpose.
 #![allow(clippy::needless_range_loop)]
 
+pub use contract::*;
 use fmi_export::model::{get_each, set_each};
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
+pub mod contract;
 pub mod layout;
 
+use fmu_contract::{rail_values, wheel_channel, wheel_from_values, Block, BUILD_ID};
 use layout::{probe_channels, BridgeLayout, BridgeVar, PARKED_X};
-use tbi_dynamics::interface::{
-    rail_values, wheel_channel, wheel_from_values, Block, BridgeResources, BRIDGE_ID,
-    BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE,
-};
 use tbi_dynamics::solver::partitioned::{BridgeSide, ModalState, ProbeValues, WheelInput};
 use tbi_dynamics::solver::share;
 use tbi_dynamics::track::{RailProfile, Smooth};
@@ -176,7 +175,7 @@ impl BridgeFmu {
         flat: bool,
         steady: bool,
     ) -> Vec<Vec<u32>> {
-        use tbi_dynamics::interface::wheel::{F_Y, VX, X};
+        use fmu_contract::wheel::{F_Y, VX, X};
         let (deck, rail) = modal.nonzero_components();
         // the loads acting on an acceleration whose shapes are `has`: the forces (F_y, M_x,
         // F_z on the rail's y, θ, z) of every wheelset through a mode with both, with those
@@ -543,8 +542,8 @@ impl FmuModel for BridgeFmu {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ProbeSpec;
     use tbi_dynamics::bridge::SimplySupported;
-    use tbi_dynamics::interface::ProbeSpec;
 
     /// A 60 m girder with two wheelsets crossing it and two probes.
     fn bridge_fmu() -> BridgeFmu {

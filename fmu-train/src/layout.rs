@@ -9,10 +9,11 @@
 //! | `veh[k]` | output | [`VEHICLE_CHANNELS`] (car-body accelerations) | after the wheelsets |
 //! | parameters | parameter | [`parameters`]: `speed`, `x0`, `hunting.*`, `coach.*` | from [`PARAM_BASE`] |
 
-use tbi_dynamics::interface::{
-    Block, Blocks, Causality, Channel, TrainResources, TrainSpec, Var, BODY_POSITION_CHANNELS,
-    RAIL_CHANNELS, WHEEL_CHANNELS, WIND_CHANNELS,
+use fmu_contract::{
+    Block, Blocks, Causality, Channel, Var, BODY_POSITION_CHANNELS, RAIL_CHANNELS, WHEEL_CHANNELS,
+    WIND_CHANNELS,
 };
+use tbi_dynamics::train::{TrainDescription, TrainSpec};
 
 /// The along-wind turbulence at a car body, an input from the wind FMU (the vertical one is
 /// not applied to the bodies).
@@ -87,7 +88,7 @@ pub struct Parameter {
 /// The train FMU's parameters in value-reference order from [`PARAM_BASE`]: `speed`,
 /// `x0`, `hunting.amplitude`, `hunting.wavelength`, `hunting.seed`, then `coach.<field>`
 /// for coach trains (every Table 1 property).
-pub fn parameters(res: &TrainResources) -> Vec<Parameter> {
+pub fn parameters(res: &TrainDescription) -> Vec<Parameter> {
     let p = |name: &str, unit, description: &str, value| Parameter {
         name: name.to_owned(),
         unit,
@@ -214,7 +215,7 @@ impl TrainLayout {
     }
 
     /// The layout of the FMU with these resources.
-    pub fn of(res: &TrainResources) -> TrainLayout {
+    pub fn of(res: &TrainDescription) -> TrainLayout {
         let turbulent = res.crosswind.as_ref().is_some_and(|w| w.turbulent);
         TrainLayout::with_wind(res.spec.n_wheelsets(), res.spec.n_vehicles(), turbulent)
     }
@@ -252,7 +253,7 @@ impl TrainLayout {
     }
 
     /// All variables in value-reference order (what `modelDescription.xml` lists).
-    pub fn variables(&self, res: &TrainResources) -> Vec<Var> {
+    pub fn variables(&self, res: &TrainDescription) -> Vec<Var> {
         let mut v = self.rail_in.variables(
             |w, c| {
                 format!(

@@ -1,26 +1,25 @@
 //! The train as an FMI 2.0 Co-Simulation FMU: only the model — the FMI plumbing is
 //! `fmi-export`'s, the equations are `tbi_dynamics::solver::partitioned::TrainSide`.
 //!
-//! Resources: `train.json` ([`TrainResources`]: vehicles, speed, start position, hunting).
+//! Resources: `train.json` ([`TrainDescription`]: vehicles, speed, start position, hunting).
 //! Parameters (speed, start position, hunting, the coach's Table 1 properties) may be changed
 //! before `fmi2ExitInitializationMode`, which builds the vehicles. Variables: [`layout`]
 //! (the one description of them). Each `fmi2DoStep(t, h)` is one Newmark step of size `h`
 //! with the rail motion at `t + h`. The C symbols are exported by the `train` shared object
 //! of `fmu-train/so`.
 
+pub use contract::*;
 use fmi_export::model::set_each;
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
+pub mod contract;
 pub mod layout;
 
+use fmu_contract::{rail_channel, rail_from_values, wheel, Block, BUILD_ID};
 use layout::{parameters, TrainLayout, TrainVar};
-use tbi_dynamics::interface::{
-    rail_channel, rail_from_values, wheel, Block, TrainResources, TrainSpec, BUILD_ID, TRAIN_ID,
-    TRAIN_RESOURCE,
-};
 use tbi_dynamics::solver::partitioned::TrainSide;
 use tbi_dynamics::solver::{share, VehicleState};
 use tbi_dynamics::train::Speed;
@@ -33,9 +32,9 @@ pub fn guid_for(resource_bytes: &[u8]) -> String {
 
 /// The train FMU's model.
 pub struct TrainFmu {
-    original: Arc<TrainResources>,
+    original: Arc<TrainDescription>,
     /// The resources with the parameters set so far (copied on a parameter's write).
-    res: Arc<TrainResources>,
+    res: Arc<TrainDescription>,
     /// Constant from instantiation on (shared by the instance's saved states).
     guid: Arc<str>,
     layout: Arc<TrainLayout>,
@@ -88,7 +87,7 @@ impl Clone for TrainFmu {
 
 #[derive(Serialize, Deserialize)]
 struct Saved {
-    res: TrainResources,
+    res: TrainDescription,
     start_time: f64,
     rails: Vec<[Vector3<f64>; 3]>,
     initialized: bool,
@@ -112,7 +111,7 @@ impl TrainFmu {
     ///   zeros, such as the body acceleration in equilibrium, which a probe can only see as
     ///   rounding); a wheelset's position and speed depend on the parameters only (probed).
     pub fn dependencies(
-        res: &TrainResources,
+        res: &TrainDescription,
     ) -> Result<fmi_export::dependencies::Declared, String> {
         use fmi_export::dependencies::{probe, Declared};
         let mut m = TrainFmu::from_parts(res.clone(), String::new());
@@ -198,7 +197,7 @@ impl TrainFmu {
     }
 
     /// Build from resource data (used by `instantiate` and by tests).
-    pub fn from_parts(res: TrainResources, guid: String) -> Self {
+    pub fn from_parts(res: TrainDescription, guid: String) -> Self {
         let layout = TrainLayout::of(&res);
         TrainFmu {
             original: Arc::new(res.clone()),
@@ -334,7 +333,7 @@ impl FmuModel for TrainFmu {
     fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
         let path = resources.join(TRAIN_RESOURCE);
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let res: TrainResources = serde_json::from_slice(&bytes)
+        let res: TrainDescription = serde_json::from_slice(&bytes)
             .map_err(|e| format!("{}: line {}: {e}", path.display(), e.line()))?;
         let guid = guid_for(&bytes);
         let fmu = TrainFmu::from_parts(res, guid);

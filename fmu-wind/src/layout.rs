@@ -8,9 +8,8 @@
 //! | `deck[j]` | output | [`WIND_CHANNELS`] (turbulence u, w at deck point j) | after the inputs |
 //! | `veh[i]` | output | [`WIND_CHANNELS`] (turbulence u, w at car body i) | after the deck points |
 
-use tbi_dynamics::interface::{
-    Block, Blocks, Var, WindResources, BODY_POSITION_CHANNELS, WIND_CHANNELS,
-};
+use crate::WindResources;
+use fmu_contract::{Block, Blocks, Var, BODY_POSITION_CHANNELS, WIND_CHANNELS};
 
 /// `<fmiModelDescription description>` of the wind FMU.
 pub const DESCRIPTION: &str = "Turbulent wind along the deck (seeded stationary Gaussian field with Davenport coherence): car-body positions in, turbulence at the deck points and the car bodies out";

@@ -13,15 +13,17 @@
 //! beyond the deck. A user may replace it with their own FMU of the same variables (a
 //! measured record, another generator); the bridge and train FMUs apply the forces.
 
+pub use contract::*;
 use fmi_export::{FmuModel, Log, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
+pub mod contract;
 pub mod layout;
 
+use fmu_contract::BUILD_ID;
 use layout::{WindLayout, WindVar, PARKED_X};
 use tbi_dynamics::bridge::buffeting::admittance_gain;
-use tbi_dynamics::interface::{WindResources, BUILD_ID, WIND_ID, WIND_RESOURCE};
 use tbi_wind::WindField;
 
 /// GUID of a wind FMU with these resource bytes (`wind.json`).

@@ -9,11 +9,11 @@
 use crate::model::Model;
 use crate::summary::CouplingSummary;
 use fmu_bridge::layout::probe_values;
+use fmu_contract::wheel;
 use std::path::Path;
 use tbi_coupling::{
     advance_into, build_scheme, CouplingConfig, CouplingError, CouplingStatistics, System,
 };
-use tbi_dynamics::interface::wheel;
 use tbi_dynamics::response::{Recorder, Sample};
 
 /// Run the model by co-simulation of its two FMUs (exported into `fmu_dir`); returns the

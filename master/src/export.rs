@@ -15,20 +15,21 @@ use crate::model::Model;
 use crate::package::write_fmu;
 use fmi_export::dependencies::Declared;
 use fmu_bridge::layout::BridgeLayout;
+use fmu_bridge::{BridgeResources, ProbeSpec, BRIDGE_ID, BRIDGE_RESOURCE, TRACK_RESOURCE};
+use fmu_contract::{Causality, Var, BUILD_ID};
 use fmu_train::layout::TrainLayout;
+use fmu_train::{TRAIN_ID, TRAIN_RESOURCE};
 use fmu_wind::layout::WindLayout;
+use fmu_wind::{WindResources, WIND_ID, WIND_RESOURCE};
 use model_description::builder::{ModelDescriptionBuilder, RealBuilder};
 use model_description::{
-    Causality as MdCausality, DefaultExperiment, DependencyKind, Initial, ModelDescription,
-    Unknown, Variability, VariableNamingConvention,
+    DefaultExperiment, DependencyKind, Initial, ModelDescription, Unknown, Variability,
+    VariableNamingConvention,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use tbi_coupling::CouplingConfig;
-use tbi_dynamics::interface::{
-    BridgeResources, Causality, ProbeSpec, TrainResources, Var, WindResources, BRIDGE_ID,
-    BRIDGE_RESOURCE, BUILD_ID, TRACK_RESOURCE, TRAIN_ID, TRAIN_RESOURCE, WIND_ID, WIND_RESOURCE,
-};
+use tbi_dynamics::train::TrainDescription;
 
 /// Command-line arguments of `tbi export`.
 #[derive(Debug, Clone, clap::Args)]
@@ -52,7 +53,7 @@ pub struct Exported {
     pub bridge_guid: String,
     pub train_guid: String,
     pub bridge_resources: BridgeResources,
-    pub train_resources: TrainResources,
+    pub train_resources: TrainDescription,
     pub bridge_layout: BridgeLayout,
     pub train_layout: TrainLayout,
     /// The wind FMU, its resources and layout, in a turbulent wind.
@@ -156,7 +157,8 @@ fn real_var(v: &Var) -> RealBuilder {
             .variability(Variability::Fixed)
             .initial(Initial::Exact),
         Causality::Input => RealBuilder::input(&v.name, v.vr, v.start.unwrap_or(0.0)),
-        Causality::Output => RealBuilder::output(&v.name, v.vr).causality(MdCausality::Output),
+        // outputs (the layouts declare no other causality)
+        other => RealBuilder::output(&v.name, v.vr).causality(other),
     };
     let b = b.description(&v.description);
     if v.unit == "1" {
@@ -524,8 +526,8 @@ pub struct Link {
 }
 
 /// The connections of the coupled system, from the layouts: per wheelset, its
-/// [`WHEEL_CHANNELS`](tbi_dynamics::interface::WHEEL_CHANNELS) train → bridge, then its
-/// [`RAIL_CHANNELS`](tbi_dynamics::interface::RAIL_CHANNELS) bridge → train; with a wind
+/// [`WHEEL_CHANNELS`](fmu_contract::WHEEL_CHANNELS) train → bridge, then its
+/// [`RAIL_CHANNELS`](fmu_contract::RAIL_CHANNELS) bridge → train; with a wind
 /// FMU, per car body its position train → wind and its along-wind turbulence wind → train,
 /// then per deck point its turbulence wind → bridge.
 pub fn connections(

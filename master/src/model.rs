@@ -4,8 +4,8 @@
 use crate::scenario::{Bridge, ModalOptions, Scenario};
 use std::sync::Arc;
 use tbi_dynamics::bridge::{ModalBridge, ModeSet};
-use tbi_dynamics::interface::TrainResources;
 use tbi_dynamics::train::Train;
+use tbi_dynamics::train::TrainDescription;
 use tbi_dynamics::InputError;
 use tbi_track::Irregularity;
 
@@ -17,7 +17,7 @@ pub struct Model {
     /// The train as built from `train_res` (monolithic solver, recorder).
     pub train: Train,
     /// The train's description: what the train FMU carries and builds the same train from.
-    pub train_res: TrainResources,
+    pub train_res: TrainDescription,
     pub track: Arc<Irregularity>,
     /// Probe names and positions, m.
     pub probes: Vec<(String, f64)>,
@@ -52,7 +52,7 @@ impl Model {
                 })
                 .sum::<f64>();
         let wheelsets: f64 = match &self.train_res.spec {
-            tbi_dynamics::interface::TrainSpec::MovingForce(axles) => axles
+            tbi_dynamics::train::TrainSpec::MovingForce(axles) => axles
                 .iter()
                 .map(|a| 16.0 + format!("{:e},", a.load_n).len() as f64)
                 .sum(),
@@ -314,12 +314,12 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             ));
         }
     }
-    let train_res = TrainResources {
+    let train_res = TrainDescription {
         spec: s.train.spec.clone(),
         speed_m_s: s.run.speed,
         x0_m: s.run.start_x_m.unwrap_or(bridge.x_start_m),
         hunting: s.train.hunting.clone(),
-        crosswind: s.wind.as_ref().map(|w| tbi_dynamics::interface::Crosswind {
+        crosswind: s.wind.as_ref().map(|w| tbi_dynamics::train::Crosswind {
             mean_speed_m_s: w.mean_speed_m_s,
             air_density_kg_m3: w.air_density_kg_m3,
             aero: w.vehicle.clone(),

@@ -11,7 +11,7 @@
 //! enums ([`Bridge`], [`TrainSpec`]) that carry exactly the data of their kind. The train
 //! speed is checked by [`Speed::from_m_s`] alone, also for `--speed-kmh` and `tbi sweep`:
 //! TOML → [`Scenario::from_toml`] → `Check::run` → [`Speed::from_m_s`] →
-//! [`crate::model::build`] → [`TrainResources::build`](tbi_dynamics::interface::TrainResources::build)
+//! [`crate::model::build`] → [`TrainDescription::build`](tbi_dynamics::train::TrainDescription::build)
 //! → [`Train::x_at`](tbi_dynamics::train::Train::x_at).
 
 use crate::model::num;
@@ -19,8 +19,8 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use tbi_coupling::CouplingConfig;
 use tbi_dynamics::bridge::SimplySupported;
-use tbi_dynamics::interface::TrainSpec;
 use tbi_dynamics::train::Speed;
+use tbi_dynamics::train::TrainSpec;
 use tbi_dynamics::vehicle::coach::CoachParams;
 use tbi_dynamics::vehicle::simple::{AxleVehicle, MovingForceAxle, SprungMassAxle};
 use tbi_dynamics::InputError;

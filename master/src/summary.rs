@@ -168,11 +168,8 @@ impl Summary {
                 .iter()
                 .any(|[lateral, vertical]| *lateral || *vertical)
                 .then(|| rec.vehicles.clone()),
-            safety: (!matches!(
-                s.train.spec,
-                tbi_dynamics::interface::TrainSpec::MovingForce(_)
-            ))
-            .then(|| rec.safety.clone()),
+            safety: (!matches!(s.train.spec, tbi_dynamics::train::TrainSpec::MovingForce(_)))
+                .then(|| rec.safety.clone()),
             coupling: None,
             steps_ahead: None,
         }

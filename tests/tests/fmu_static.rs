@@ -11,10 +11,10 @@ mod common;
 use common::reference::{analytic_modes, closed_form, truncated_series, truncation_bounds};
 use common::scenarios::{self, *};
 use fmi_import::{Fmu, Instance, InstantiateOptions};
+use fmu_bridge::BridgeResources;
 use std::f64::consts::PI;
 use std::sync::Arc;
 use tbi_dynamics::bridge::Shapes;
-use tbi_dynamics::interface::BridgeResources;
 use tbi_tests::fmu::{export, vr_of};
 
 fn instantiate(fmu: &Arc<Fmu>, name: &str) -> Instance {

@@ -1,8 +1,7 @@
-//! The co-simulation interface shared by the two FMUs and the master: what the FMUs carry
-//! in their resources, the channel tables both sides of a connection use, and the block
-//! arithmetic that turns channel tables into value references, names and output slots.
-//! Each FMU's own layout (which blocks, in which order, with which texts) is described once
-//! next to its model: `fmu_bridge::layout` and `fmu_train::layout`.
+//! The contract the project's FMUs share: the channel tables both sides of a connection use,
+//! and the block arithmetic that turns channel tables into value references, names and
+//! output slots. Each FMU's own contract (identifier, resources, which blocks in which order,
+//! with which texts) lives in its crate: `fmu_bridge`, `fmu_train` and `fmu_wind`.
 //!
 //! Naming pattern (FMI "structured" convention, 1-based indices, SI units): a [`Block`] of
 //! `count` × `channels` is named `{prefix}[{i}].{channel}`, e.g. `ws[3].F_z`. Its value
@@ -19,31 +18,11 @@
 //! **Input timing**: inputs set before `fmi2DoStep(t, h)` are the values at `t + h` (what an
 //! implicit iteration needs); a plain fixed-step master therefore sees a one-step lag.
 
-use crate::bridge::ModalBridge;
-use crate::solver::partitioned::WheelInput;
-use crate::train::{Speed, Train, TrainVehicle};
-use crate::vehicle::coach::CoachParams;
-use crate::vehicle::simple::{moving_force, sprung_mass, MovingForceAxle, SprungMassAxle};
-use crate::vehicle::LinearVehicle;
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
-use std::sync::Arc;
-use tbi_track::{HuntingParams, WheelHunting};
+use tbi_dynamics::solver::partitioned::WheelInput;
 
-/// Model identifier (and shared-object stem) of the bridge FMU.
-pub const BRIDGE_ID: &str = "bridge";
-/// Model identifier (and shared-object stem) of the train FMU.
-pub const TRAIN_ID: &str = "train";
-/// Resource file of the bridge FMU (JSON of [`BridgeResources`]).
-pub const BRIDGE_RESOURCE: &str = "bridge.json";
-/// Resource file with the track irregularity record (optional).
-pub const TRACK_RESOURCE: &str = "track.csv";
-/// Resource file of the train FMU (JSON of [`TrainResources`]).
-pub const TRAIN_RESOURCE: &str = "train.json";
-/// Model identifier (and shared-object stem) of the wind FMU.
-pub const WIND_ID: &str = "wind";
-/// Resource file of the wind FMU (JSON of [`WindResources`]).
-pub const WIND_RESOURCE: &str = "wind.json";
+/// Build identifier that goes into the FMUs' GUIDs (with the bytes of their resources).
+pub const BUILD_ID: &str = concat!("tbi-", env!("CARGO_PKG_VERSION"));
 
 /// The turbulence at a deck point or a car body, as the wind FMU gives it and the bridge
 /// FMU takes it (about the mean wind U, which both sides hold).
@@ -63,28 +42,6 @@ pub const BODY_POSITION_CHANNELS: [Channel; 1] = [ch(
     "m",
     "position of the car body's centre along the track",
 )];
-
-/// Everything the wind FMU reads from its resources: the turbulence, generated from its seed
-/// at the deck points (the same field the monolithic solver generates).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct WindResources {
-    /// Mean wind speed U at deck level, m/s (> 0).
-    pub mean_speed_m_s: f64,
-    pub turbulence: tbi_wind::Turbulence,
-    /// The deck points, m (strictly increasing).
-    pub points_m: Vec<f64>,
-    /// Duration the field covers, s (it repeats beyond).
-    pub duration_s: f64,
-    /// Number of vehicles whose car bodies it gives the wind at.
-    pub n_vehicles: usize,
-    /// A measured record at the deck points, used instead of generating `turbulence`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub record: Option<tbi_wind::WindField>,
-    /// Davenport's admittance `(c, B)` of the deck forces: the deck outputs are the field
-    /// through it ([`crate::bridge::buffeting::admittance_gain`]), the car bodies' the field.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub admittance: Option<(f64, f64)>,
-}
 
 /// One scalar channel of a block: its name (after the `.`), unit and description.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -188,13 +145,9 @@ pub fn rail_from_values(v: &[f64]) -> [Vector3<f64>; 3] {
     [d(0), d(1), d(2)]
 }
 
-/// FMI causality of a variable.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Causality {
-    Parameter,
-    Input,
-    Output,
-}
+/// FMI causality of a variable (the modelDescription's; the FMUs declare parameters, inputs
+/// and outputs).
+pub use model_description::Causality;
 
 /// One scalar Real variable.
 #[derive(Debug, Clone, PartialEq)]
@@ -442,184 +395,6 @@ impl Blocks {
         b
     }
 }
-
-/// A probe: name (for descriptions) and position, m.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ProbeSpec {
-    pub name: String,
-    pub x_m: f64,
-}
-
-/// Everything the bridge FMU reads from its resources.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct BridgeResources {
-    pub modal: ModalBridge,
-    pub probes: Vec<ProbeSpec>,
-    pub n_wheelsets: usize,
-    /// Whether `track.csv` holds an irregularity record (else the track is smooth).
-    pub has_track_record: bool,
-}
-
-/// The vehicles of a train.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum TrainSpec {
-    /// One moving force per axle.
-    MovingForce(Vec<MovingForceAxle>),
-    /// One sprung mass per axle.
-    SprungMass(Vec<SprungMassAxle>),
-    /// `count` identical coaches, coupled at their full length.
-    Coaches { params: CoachParams, count: usize },
-}
-
-impl TrainSpec {
-    /// The vehicles with their offsets behind the first axle.
-    pub fn vehicles(&self) -> Result<Vec<TrainVehicle>, String> {
-        Ok(match self {
-            TrainSpec::MovingForce(list) => list
-                .iter()
-                .map(|a| TrainVehicle {
-                    model: Arc::new(moving_force(a.load_n)),
-                    offset_m: a.offset_m,
-                })
-                .collect(),
-            TrainSpec::SprungMass(list) => list
-                .iter()
-                .map(|a| {
-                    Ok(TrainVehicle {
-                        model: Arc::new(sprung_mass(a)?),
-                        offset_m: a.offset_m,
-                    })
-                })
-                .collect::<Result<_, String>>()?,
-            TrainSpec::Coaches { params, count } => {
-                params
-                    .check()
-                    .map_err(|(f, v, why)| format!("coach.{f} = {v}: {why}"))?;
-                let coach = Arc::new(params.build()?);
-                (0..*count)
-                    .map(|k| TrainVehicle {
-                        model: coach.clone(),
-                        offset_m: k as f64 * params.length_m,
-                    })
-                    .collect()
-            }
-        })
-    }
-
-    /// Number of wheelsets.
-    pub fn n_wheelsets(&self) -> usize {
-        match self {
-            TrainSpec::MovingForce(l) => l.len(),
-            TrainSpec::SprungMass(l) => l.len(),
-            TrainSpec::Coaches { count, .. } => 4 * count,
-        }
-    }
-
-    /// Number of vehicles.
-    pub fn n_vehicles(&self) -> usize {
-        match self {
-            TrainSpec::MovingForce(l) => l.len(),
-            TrainSpec::SprungMass(l) => l.len(),
-            TrainSpec::Coaches { count, .. } => *count,
-        }
-    }
-}
-
-/// Everything the train FMU reads from its resources (all of it can be changed through
-/// parameters before initialisation).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct TrainResources {
-    pub spec: TrainSpec,
-    /// Speed, m/s.
-    pub speed_m_s: Speed,
-    /// First-axle position at the start time, m.
-    pub x0_m: f64,
-    pub hunting: HuntingParams,
-    /// A steady crosswind on the car bodies (None: still air).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub crosswind: Option<Crosswind>,
-}
-
-/// A steady mean wind normal to the track (towards +y) on the car bodies
-/// ([`crate::vehicle::aero`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Crosswind {
-    /// Mean wind speed U, m/s.
-    pub mean_speed_m_s: f64,
-    /// Air density ρ, kg/m³.
-    pub air_density_kg_m3: f64,
-    /// The car bodies' coefficients (off the deck, and on it unless `on_deck` is given).
-    pub aero: crate::vehicle::aero::VehicleAero,
-    /// The car bodies' coefficients on the deck (its shielding or exposure); None: `aero`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub on_deck: Option<crate::vehicle::aero::VehicleAero>,
-    /// The deck's extent `[start, end]`, m, where `on_deck` applies (None: all ground).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub deck_m: Option<[f64; 2]>,
-    /// The wind is turbulent: the along-wind turbulence at each car body comes from the wind
-    /// field (in the monolithic solver) or the train FMU's inputs `veh[i].u` (from the wind
-    /// FMU).
-    #[serde(default)]
-    pub turbulent: bool,
-}
-
-impl TrainResources {
-    /// The train, with its first axle at `x0_m` at `start_time` (s): the one place a
-    /// [`Train`] is built from its description, for the monolithic solver and in the train
-    /// FMU.
-    pub fn build(&self, start_time: f64) -> Result<Train, String> {
-        let mut vehicles = self.spec.vehicles()?;
-        let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
-        let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
-        let speed_m_s = self.speed_m_s.m_s();
-        let mut wind = None;
-        if let Some(w) = &self.crosswind {
-            use crate::vehicle::aero::{TrainWind, WindBody};
-            let mut tw = TrainWind {
-                mean_speed_m_s: w.mean_speed_m_s,
-                air_density_kg_m3: w.air_density_kg_m3,
-                speed_m_s,
-                ground: w.aero.clone(),
-                deck: w.on_deck.clone().unwrap_or_else(|| w.aero.clone()),
-                deck_m: w.deck_m,
-                bodies: Vec::new(),
-            };
-            // vehicles sharing a model and starting on the same kind of ground (the coaches
-            // of a train) share its windy model
-            let mut done: Vec<(*const LinearVehicle, bool, Arc<LinearVehicle>)> = Vec::new();
-            for v in &mut vehicles {
-                let offset = v.centre_offset_m();
-                // the body's centre at the start time
-                let x = self.x0_m - offset;
-                let loads = tw.loads_at(x, 0.0);
-                let key = (Arc::as_ptr(&v.model), tw.on_deck(x));
-                tw.bodies
-                    .push(WindBody::of(&v.model).map(|b| (b, offset, loads)));
-                v.model = match done.iter().find(|(k, d, _)| (*k, *d) == key) {
-                    Some((_, _, m)) => m.clone(),
-                    None => {
-                        let m = Arc::new(v.model.in_crosswind(&loads)?);
-                        done.push((key.0, key.1, m.clone()));
-                        m
-                    }
-                };
-            }
-            if tw.bodies.iter().any(Option::is_some) {
-                wind = Some(Arc::new(tw));
-            }
-        }
-        Ok(Train {
-            vehicles,
-            speed_m_s,
-            x0_m: self.x0_m - speed_m_s * start_time,
-            hunting,
-            wind,
-        })
-    }
-}
-
-/// Build identifier that goes into the FMUs' GUIDs (with the bytes of their resources).
-pub const BUILD_ID: &str = concat!("tbi-", env!("CARGO_PKG_VERSION"));
 
 #[cfg(test)]
 mod tests {

@@ -1,0 +1,29 @@
+//! The bridge FMU's identity and resources: its model identifier, the files it carries and
+//! what they hold.
+
+use serde::{Deserialize, Serialize};
+use tbi_dynamics::bridge::ModalBridge;
+
+/// Model identifier (and shared-object stem) of the bridge FMU.
+pub const BRIDGE_ID: &str = "bridge";
+/// Resource file of the bridge FMU (JSON of [`BridgeResources`]).
+pub const BRIDGE_RESOURCE: &str = "bridge.json";
+/// Resource file with the track irregularity record (optional).
+pub const TRACK_RESOURCE: &str = "track.csv";
+
+/// A probe: name (for descriptions) and position, m.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProbeSpec {
+    pub name: String,
+    pub x_m: f64,
+}
+
+/// Everything the bridge FMU reads from its resources.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BridgeResources {
+    pub modal: ModalBridge,
+    pub probes: Vec<ProbeSpec>,
+    pub n_wheelsets: usize,
+    /// Whether `track.csv` holds an irregularity record (else the track is smooth).
+    pub has_track_record: bool,
+}
