@@ -49,6 +49,7 @@ pub mod harness;
 mod instance;
 pub mod library;
 pub mod logger;
+pub mod names;
 mod participant;
 pub mod simulate;
 

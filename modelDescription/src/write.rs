@@ -174,159 +174,16 @@ impl ModelDescription {
         out.open(0, "fmiModelDescription", &root);
 
         if let Some(me) = &self.model_exchange {
-            let mut a = Attrs::new();
-            a.s("modelIdentifier", &me.model_identifier)
-                .flag("needsExecutionTool", me.needs_execution_tool)
-                .flag(
-                    "completedIntegratorStepNotNeeded",
-                    me.completed_integrator_step_not_needed,
-                )
-                .flag(
-                    "canBeInstantiatedOnlyOncePerProcess",
-                    me.can_be_instantiated_only_once_per_process,
-                )
-                .flag(
-                    "canNotUseMemoryManagementFunctions",
-                    me.can_not_use_memory_management_functions,
-                )
-                .flag("canGetAndSetFMUstate", me.can_get_and_set_fmu_state)
-                .flag("canSerializeFMUstate", me.can_serialize_fmu_state)
-                .flag(
-                    "providesDirectionalDerivative",
-                    me.provides_directional_derivative,
-                );
-            if me.source_files.is_empty() {
-                out.empty(1, "ModelExchange", &a);
-            } else {
-                out.open(1, "ModelExchange", &a);
-                source_files(&mut out, 2, &me.source_files);
-                out.close(1, "ModelExchange");
-            }
+            write_model_exchange(&mut out, me);
         }
-
         if let Some(cs) = &self.co_simulation {
-            let mut a = Attrs::new();
-            a.s("modelIdentifier", &cs.model_identifier)
-                .flag("needsExecutionTool", cs.needs_execution_tool)
-                .flag(
-                    "canHandleVariableCommunicationStepSize",
-                    cs.can_handle_variable_communication_step_size,
-                )
-                .flag("canInterpolateInputs", cs.can_interpolate_inputs);
-            if cs.max_output_derivative_order != 0 {
-                a.i(
-                    "maxOutputDerivativeOrder",
-                    Some(cs.max_output_derivative_order),
-                );
-            }
-            a.flag("canRunAsynchronuously", cs.can_run_asynchronuously)
-                .flag(
-                    "canBeInstantiatedOnlyOncePerProcess",
-                    cs.can_be_instantiated_only_once_per_process,
-                )
-                .flag(
-                    "canNotUseMemoryManagementFunctions",
-                    cs.can_not_use_memory_management_functions,
-                )
-                .flag("canGetAndSetFMUstate", cs.can_get_and_set_fmu_state)
-                .flag("canSerializeFMUstate", cs.can_serialize_fmu_state)
-                .flag(
-                    "providesDirectionalDerivative",
-                    cs.provides_directional_derivative,
-                );
-            if cs.source_files.is_empty() {
-                out.empty(1, "CoSimulation", &a);
-            } else {
-                out.open(1, "CoSimulation", &a);
-                source_files(&mut out, 2, &cs.source_files);
-                out.close(1, "CoSimulation");
-            }
+            write_co_simulation(&mut out, cs);
         }
-
         if !self.unit_definitions.is_empty() {
-            out.open(1, "UnitDefinitions", &Attrs::new());
-            for u in &self.unit_definitions {
-                let mut attrs = Attrs::new();
-                attrs.s("name", &u.name);
-                if u.base_unit.is_none() && u.display_units.is_empty() {
-                    out.empty(2, "Unit", &attrs);
-                    continue;
-                }
-                out.open(2, "Unit", &attrs);
-                if let Some(b) = &u.base_unit {
-                    let mut a = Attrs::new();
-                    for (name, e) in [
-                        ("kg", b.kg),
-                        ("m", b.m),
-                        ("s", b.s),
-                        ("A", b.a),
-                        ("K", b.k),
-                        ("mol", b.mol),
-                        ("cd", b.cd),
-                        ("rad", b.rad),
-                    ] {
-                        if e != 0 {
-                            a.i(name, Some(e));
-                        }
-                    }
-                    if b.factor != 1.0 {
-                        a.f("factor", Some(b.factor));
-                    }
-                    if b.offset != 0.0 {
-                        a.f("offset", Some(b.offset));
-                    }
-                    out.empty(3, "BaseUnit", &a);
-                }
-                for d in &u.display_units {
-                    let mut a = Attrs::new();
-                    a.s("name", &d.name);
-                    if d.factor != 1.0 {
-                        a.f("factor", Some(d.factor));
-                    }
-                    if d.offset != 0.0 {
-                        a.f("offset", Some(d.offset));
-                    }
-                    out.empty(3, "DisplayUnit", &a);
-                }
-                out.close(2, "Unit");
-            }
-            out.close(1, "UnitDefinitions");
+            write_unit_definitions(&mut out, &self.unit_definitions);
         }
-
         if !self.type_definitions.is_empty() {
-            out.open(1, "TypeDefinitions", &Attrs::new());
-            for t in &self.type_definitions {
-                let mut a = Attrs::new();
-                a.s("name", &t.name).os("description", &t.description);
-                out.open(2, "SimpleType", &a);
-                let mut ta = Attrs::new();
-                match &t.kind {
-                    SimpleTypeKind::Real(r) => {
-                        real_attrs(&mut ta, r);
-                        out.empty(3, "Real", &ta);
-                    }
-                    SimpleTypeKind::Integer(i) => {
-                        integer_attrs(&mut ta, i);
-                        out.empty(3, "Integer", &ta);
-                    }
-                    SimpleTypeKind::Boolean => out.empty(3, "Boolean", &ta),
-                    SimpleTypeKind::String => out.empty(3, "String", &ta),
-                    SimpleTypeKind::Enumeration { attributes, items } => {
-                        integer_attrs(&mut ta, attributes);
-                        out.open(3, "Enumeration", &ta);
-                        for item in items {
-                            let mut ia = Attrs::new();
-                            ia.s("name", &item.name)
-                                .i("value", Some(item.value))
-                                .os("description", &item.description);
-                            out.empty(4, "Item", &ia);
-                        }
-                        out.close(3, "Enumeration");
-                    }
-                }
-                out.close(2, "SimpleType");
-            }
-            out.close(1, "TypeDefinitions");
+            write_type_definitions(&mut out, &self.type_definitions);
         }
 
         if !self.log_categories.is_empty() {
@@ -352,67 +209,235 @@ impl ModelDescription {
             out.line(1, v.trim());
         }
 
-        out.open(1, "ModelVariables", &Attrs::new());
-        for (i, v) in self.model_variables.iter().enumerate() {
-            out.line(2, &format!("<!-- Index {} -->", i + 1));
-            let mut a = Attrs::new();
-            a.s("name", &v.name)
-                .s("valueReference", &v.value_reference.to_string())
-                .os("description", &v.description)
-                .s("causality", v.causality.as_str())
-                .s("variability", v.variability.as_str());
-            if let Some(initial) = v.initial {
-                a.s("initial", initial.as_str());
-            }
-            a.b(
-                "canHandleMultipleSetPerTimeInstant",
-                v.can_handle_multiple_set_per_time_instant,
-            );
-            out.open(2, "ScalarVariable", &a);
-            let mut ta = Attrs::new();
-            match &v.kind {
-                VariableKind::Real(r) => {
-                    ta.os("declaredType", &r.declared_type);
-                    real_attrs(&mut ta, &r.attributes);
-                    ta.f("start", r.start)
-                        .i("derivative", r.derivative)
-                        .b("reinit", r.reinit);
-                }
-                VariableKind::Integer(i) => {
-                    ta.os("declaredType", &i.declared_type);
-                    integer_attrs(&mut ta, &i.attributes);
-                    ta.i("start", i.start);
-                }
-                VariableKind::Boolean(b) => {
-                    ta.os("declaredType", &b.declared_type).b("start", b.start);
-                }
-                VariableKind::String(s) => {
-                    ta.os("declaredType", &s.declared_type)
-                        .os("start", &s.start);
-                }
-                VariableKind::Enumeration(e) => {
-                    ta.s("declaredType", &e.declared_type);
-                    integer_attrs(&mut ta, &e.attributes);
-                    ta.i("start", e.start);
-                }
-            }
-            out.empty(3, v.kind.type_name(), &ta);
-            out.close(2, "ScalarVariable");
-        }
-        out.close(1, "ModelVariables");
-
-        let ms = &self.model_structure;
-        if ms.outputs.is_empty() && ms.derivatives.is_empty() && ms.initial_unknowns.is_empty() {
-            out.empty(1, "ModelStructure", &Attrs::new());
-        } else {
-            out.open(1, "ModelStructure", &Attrs::new());
-            unknowns(&mut out, "Outputs", &ms.outputs);
-            unknowns(&mut out, "Derivatives", &ms.derivatives);
-            unknowns(&mut out, "InitialUnknowns", &ms.initial_unknowns);
-            out.close(1, "ModelStructure");
-        }
+        write_model_variables(&mut out, &self.model_variables);
+        write_model_structure(&mut out, &self.model_structure);
         out.close(0, "fmiModelDescription");
         out.text
+    }
+}
+
+/// `<ModelExchange>`, with its source files.
+fn write_model_exchange(out: &mut Out, me: &ModelExchange) {
+    let mut a = Attrs::new();
+    a.s("modelIdentifier", &me.model_identifier)
+        .flag("needsExecutionTool", me.needs_execution_tool)
+        .flag(
+            "completedIntegratorStepNotNeeded",
+            me.completed_integrator_step_not_needed,
+        )
+        .flag(
+            "canBeInstantiatedOnlyOncePerProcess",
+            me.can_be_instantiated_only_once_per_process,
+        )
+        .flag(
+            "canNotUseMemoryManagementFunctions",
+            me.can_not_use_memory_management_functions,
+        )
+        .flag("canGetAndSetFMUstate", me.can_get_and_set_fmu_state)
+        .flag("canSerializeFMUstate", me.can_serialize_fmu_state)
+        .flag(
+            "providesDirectionalDerivative",
+            me.provides_directional_derivative,
+        );
+    if me.source_files.is_empty() {
+        out.empty(1, "ModelExchange", &a);
+    } else {
+        out.open(1, "ModelExchange", &a);
+        source_files(out, 2, &me.source_files);
+        out.close(1, "ModelExchange");
+    }
+}
+
+/// `<CoSimulation>`, with its source files.
+fn write_co_simulation(out: &mut Out, cs: &CoSimulation) {
+    let mut a = Attrs::new();
+    a.s("modelIdentifier", &cs.model_identifier)
+        .flag("needsExecutionTool", cs.needs_execution_tool)
+        .flag(
+            "canHandleVariableCommunicationStepSize",
+            cs.can_handle_variable_communication_step_size,
+        )
+        .flag("canInterpolateInputs", cs.can_interpolate_inputs);
+    if cs.max_output_derivative_order != 0 {
+        a.i(
+            "maxOutputDerivativeOrder",
+            Some(cs.max_output_derivative_order),
+        );
+    }
+    a.flag("canRunAsynchronuously", cs.can_run_asynchronuously)
+        .flag(
+            "canBeInstantiatedOnlyOncePerProcess",
+            cs.can_be_instantiated_only_once_per_process,
+        )
+        .flag(
+            "canNotUseMemoryManagementFunctions",
+            cs.can_not_use_memory_management_functions,
+        )
+        .flag("canGetAndSetFMUstate", cs.can_get_and_set_fmu_state)
+        .flag("canSerializeFMUstate", cs.can_serialize_fmu_state)
+        .flag(
+            "providesDirectionalDerivative",
+            cs.provides_directional_derivative,
+        );
+    if cs.source_files.is_empty() {
+        out.empty(1, "CoSimulation", &a);
+    } else {
+        out.open(1, "CoSimulation", &a);
+        source_files(out, 2, &cs.source_files);
+        out.close(1, "CoSimulation");
+    }
+}
+
+/// `<UnitDefinitions>` (non-empty).
+fn write_unit_definitions(out: &mut Out, units: &[Unit]) {
+    out.open(1, "UnitDefinitions", &Attrs::new());
+    for u in units {
+        let mut attrs = Attrs::new();
+        attrs.s("name", &u.name);
+        if u.base_unit.is_none() && u.display_units.is_empty() {
+            out.empty(2, "Unit", &attrs);
+            continue;
+        }
+        out.open(2, "Unit", &attrs);
+        if let Some(b) = &u.base_unit {
+            let mut a = Attrs::new();
+            for (name, e) in [
+                ("kg", b.kg),
+                ("m", b.m),
+                ("s", b.s),
+                ("A", b.a),
+                ("K", b.k),
+                ("mol", b.mol),
+                ("cd", b.cd),
+                ("rad", b.rad),
+            ] {
+                if e != 0 {
+                    a.i(name, Some(e));
+                }
+            }
+            if b.factor != 1.0 {
+                a.f("factor", Some(b.factor));
+            }
+            if b.offset != 0.0 {
+                a.f("offset", Some(b.offset));
+            }
+            out.empty(3, "BaseUnit", &a);
+        }
+        for d in &u.display_units {
+            let mut a = Attrs::new();
+            a.s("name", &d.name);
+            if d.factor != 1.0 {
+                a.f("factor", Some(d.factor));
+            }
+            if d.offset != 0.0 {
+                a.f("offset", Some(d.offset));
+            }
+            out.empty(3, "DisplayUnit", &a);
+        }
+        out.close(2, "Unit");
+    }
+    out.close(1, "UnitDefinitions");
+}
+
+/// `<TypeDefinitions>` (non-empty).
+fn write_type_definitions(out: &mut Out, types: &[SimpleType]) {
+    out.open(1, "TypeDefinitions", &Attrs::new());
+    for t in types {
+        let mut a = Attrs::new();
+        a.s("name", &t.name).os("description", &t.description);
+        out.open(2, "SimpleType", &a);
+        let mut ta = Attrs::new();
+        match &t.kind {
+            SimpleTypeKind::Real(r) => {
+                real_attrs(&mut ta, r);
+                out.empty(3, "Real", &ta);
+            }
+            SimpleTypeKind::Integer(i) => {
+                integer_attrs(&mut ta, i);
+                out.empty(3, "Integer", &ta);
+            }
+            SimpleTypeKind::Boolean => out.empty(3, "Boolean", &ta),
+            SimpleTypeKind::String => out.empty(3, "String", &ta),
+            SimpleTypeKind::Enumeration { attributes, items } => {
+                integer_attrs(&mut ta, attributes);
+                out.open(3, "Enumeration", &ta);
+                for item in items {
+                    let mut ia = Attrs::new();
+                    ia.s("name", &item.name)
+                        .i("value", Some(item.value))
+                        .os("description", &item.description);
+                    out.empty(4, "Item", &ia);
+                }
+                out.close(3, "Enumeration");
+            }
+        }
+        out.close(2, "SimpleType");
+    }
+    out.close(1, "TypeDefinitions");
+}
+
+/// `<ModelVariables>`, each variable preceded by a comment with its index.
+fn write_model_variables(out: &mut Out, variables: &[ScalarVariable]) {
+    out.open(1, "ModelVariables", &Attrs::new());
+    for (i, v) in variables.iter().enumerate() {
+        out.line(2, &format!("<!-- Index {} -->", i + 1));
+        let mut a = Attrs::new();
+        a.s("name", &v.name)
+            .s("valueReference", &v.value_reference.to_string())
+            .os("description", &v.description)
+            .s("causality", v.causality.as_str())
+            .s("variability", v.variability.as_str());
+        if let Some(initial) = v.initial {
+            a.s("initial", initial.as_str());
+        }
+        a.b(
+            "canHandleMultipleSetPerTimeInstant",
+            v.can_handle_multiple_set_per_time_instant,
+        );
+        out.open(2, "ScalarVariable", &a);
+        let mut ta = Attrs::new();
+        match &v.kind {
+            VariableKind::Real(r) => {
+                ta.os("declaredType", &r.declared_type);
+                real_attrs(&mut ta, &r.attributes);
+                ta.f("start", r.start)
+                    .i("derivative", r.derivative)
+                    .b("reinit", r.reinit);
+            }
+            VariableKind::Integer(i) => {
+                ta.os("declaredType", &i.declared_type);
+                integer_attrs(&mut ta, &i.attributes);
+                ta.i("start", i.start);
+            }
+            VariableKind::Boolean(b) => {
+                ta.os("declaredType", &b.declared_type).b("start", b.start);
+            }
+            VariableKind::String(s) => {
+                ta.os("declaredType", &s.declared_type)
+                    .os("start", &s.start);
+            }
+            VariableKind::Enumeration(e) => {
+                ta.s("declaredType", &e.declared_type);
+                integer_attrs(&mut ta, &e.attributes);
+                ta.i("start", e.start);
+            }
+        }
+        out.empty(3, v.kind.type_name(), &ta);
+        out.close(2, "ScalarVariable");
+    }
+    out.close(1, "ModelVariables");
+}
+
+/// `<ModelStructure>`, empty when it has no Unknowns.
+fn write_model_structure(out: &mut Out, ms: &ModelStructure) {
+    if ms.outputs.is_empty() && ms.derivatives.is_empty() && ms.initial_unknowns.is_empty() {
+        out.empty(1, "ModelStructure", &Attrs::new());
+    } else {
+        out.open(1, "ModelStructure", &Attrs::new());
+        unknowns(out, "Outputs", &ms.outputs);
+        unknowns(out, "Derivatives", &ms.derivatives);
+        unknowns(out, "InitialUnknowns", &ms.initial_unknowns);
+        out.close(1, "ModelStructure");
     }
 }
 

@@ -27,6 +27,13 @@ fn illegal(
 }
 
 pub(super) fn illegal_state_checks(ck: &mut Checker, ctx: &Ctx) {
+    life_cycle_calls(ck, ctx);
+    co_simulation_calls(ck, ctx);
+    recovery_check(ck, ctx);
+}
+
+/// Life-cycle, value and stepping calls in states where they are not allowed.
+fn life_cycle_calls(ck: &mut Checker, ctx: &Ctx) {
     let h = ctx.cfg.step_size;
     let out = ctx.cfg.output_vr;
     let inp = ctx.cfg.input_vr;
@@ -112,6 +119,13 @@ pub(super) fn illegal_state_checks(ck: &mut Checker, ctx: &Ctx) {
         to_step_mode,
         |s| unsafe { (s.lib.cancel_step)(s.c) },
     );
+}
+
+/// Status queries before the first step, and the derivative functions: illegal in a state
+/// or not provided by the FMU.
+fn co_simulation_calls(ck: &mut Checker, ctx: &Ctx) {
+    let out = ctx.cfg.output_vr;
+    let inp = ctx.cfg.input_vr;
     illegal(
         ck,
         ctx,
@@ -183,7 +197,12 @@ pub(super) fn illegal_state_checks(ck: &mut Checker, ctx: &Ctx) {
             unsafe { (s.lib.get_real_output_derivatives)(s.c, &out, 1, &order, &mut v) }
         },
     );
+}
 
+/// After an error only recovery calls are accepted, and `fmi2Reset` recovers.
+fn recovery_check(ck: &mut Checker, ctx: &Ctx) {
+    let h = ctx.cfg.step_size;
+    let inp = ctx.cfg.input_vr;
     ck.check(
         "after an error only recovery calls are accepted; fmi2Reset recovers",
         || {
