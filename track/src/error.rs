@@ -104,8 +104,8 @@ impl fmt::Display for RecordProblem {
             RecordProblem::BadHeader { found } => write!(
                 f,
                 "expected the header `{}` (optionally followed by `,{}`), found `{found}`",
-                crate::record::HEADER.join(","),
-                crate::record::SLOPE_HEADER.join(",")
+                crate::record_format::HEADER.join(","),
+                crate::record_format::SLOPE_HEADER.join(",")
             ),
             RecordProblem::MissingHeader => write!(f, "no header line"),
             RecordProblem::ColumnCount { expected, found } => {

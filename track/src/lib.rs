@@ -65,6 +65,7 @@ pub mod generate;
 pub mod hunting;
 pub mod profile;
 pub mod record;
+mod record_format;
 pub mod spec;
 pub mod spectrum;
 

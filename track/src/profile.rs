@@ -2,7 +2,7 @@
 
 use std::io;
 
-use crate::record::{HEADER, PERIODIC_DIRECTIVE, SLOPE_HEADER};
+use crate::record_format::{HEADER, PERIODIC_DIRECTIVE, SLOPE_HEADER};
 use crate::{Component, RailIrregularity};
 
 /// The three irregularity components tabulated at strictly increasing nodes `x_i`, with

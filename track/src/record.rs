@@ -44,14 +44,8 @@
 use std::path::Path;
 
 use crate::profile::Profile;
+pub use crate::record_format::{HEADER, PERIODIC_DIRECTIVE, SLOPE_HEADER};
 use crate::{RailIrregularity, RecordProblem, TrackError};
-
-/// Required header columns.
-pub const HEADER: [&str; 4] = ["x_m", "lateral_m", "vertical_m", "cross_level_rad"];
-/// Optional slope columns following [`HEADER`].
-pub const SLOPE_HEADER: [&str; 3] = ["lateral_slope", "vertical_slope", "cross_level_slope"];
-/// Comment text that declares a record periodic.
-pub const PERIODIC_DIRECTIVE: &str = "periodic";
 
 const COLUMNS: [&str; 7] = [
     HEADER[0],

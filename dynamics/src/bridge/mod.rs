@@ -1,12 +1,14 @@
 //! The bridge as a modal model.
 pub mod aeroelastic;
 pub mod buffeting;
+mod lanes;
 pub mod modal;
 /// The modes file format (crate `tbi-modes`).
 pub use tbi_modes as modes_file;
 pub mod simply_supported;
 
-pub use modal::{LaneScratch, ModalBridge, Shapes, SHAPE_LANES};
+pub use lanes::{LaneScratch, SHAPE_LANES};
+pub use modal::{ModalBridge, Shapes};
 pub use simply_supported::SimplySupported;
 pub use tbi_modes::{Mode, ModeSet, FORMAT_TAG};
 
