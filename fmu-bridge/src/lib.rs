@@ -20,6 +20,7 @@ use std::path::Path;
 use std::sync::Arc;
 pub mod contract;
 pub mod layout;
+pub mod package;
 
 use fmu_contract::{rail_values, wheel_channel, wheel_from_values, Block, BUILD_ID};
 use layout::{probe_channels, BridgeLayout, BridgeVar, PARKED_X};

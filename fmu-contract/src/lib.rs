@@ -18,6 +18,10 @@
 //! **Input timing**: inputs set before `fmi2DoStep(t, h)` are the values at `t + h` (what an
 //! implicit iteration needs); a plain fixed-step master therefore sees a one-step lag.
 
+pub mod package;
+
+pub use package::Contract;
+
 use nalgebra::Vector3;
 use tbi_dynamics::solver::partitioned::WheelInput;
 

@@ -17,6 +17,7 @@ use std::path::Path;
 use std::sync::Arc;
 pub mod contract;
 pub mod layout;
+pub mod package;
 
 use fmu_contract::{rail_channel, rail_from_values, wheel, Block, BUILD_ID};
 use layout::{parameters, TrainLayout, TrainVar};

@@ -20,6 +20,7 @@ use std::path::Path;
 use std::sync::Arc;
 pub mod contract;
 pub mod layout;
+pub mod package;
 
 use fmu_contract::BUILD_ID;
 use layout::{WindLayout, WindVar, PARKED_X};
