@@ -20,26 +20,26 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a scenario (default: the embedded Tsing Ma case) and write summary.json, history.csv and plots.
-    Run(tbi::run::RunArgs),
+    Run(tbi::cli::run::RunArgs),
     /// Package a scenario's bridge and train as FMI 2.0 Co-Simulation FMUs plus an SSP system.
-    Export(tbi::export::ExportArgs),
+    Export(tbi::cli::export::ExportArgs),
     /// The bridge's modes: table, modes file and plots of the first shapes.
-    Modes(tbi::modes::ModesArgs),
+    Modes(tbi::cli::modes::ModesArgs),
     /// Run a scenario at several speeds in parallel and tabulate like the paper's Table 2.
-    Sweep(tbi::sweep::SweepArgs),
+    Sweep(tbi::cli::sweep::SweepArgs),
     /// The embedded default scenario.
     Scenario {
         #[command(subcommand)]
         what: ScenarioCommand,
     },
     /// Speed measurements (monolithic, co-simulation, FE modes, sweep).
-    Bench(tbi::bench::BenchArgs),
+    Bench(tbi::cli::bench::BenchArgs),
     /// Run any FMI 2.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
-    Simulate(tbi::simulate::SimulateArgs),
+    Simulate(tbi::cli::simulate::SimulateArgs),
     /// Run an SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the coupling algorithms.
-    Cosim(tbi::cosim_cmd::CosimArgs),
+    Cosim(tbi::cli::cosim::CosimArgs),
     /// Run a scenario both ways (FMUs and monolithic) and report their differences.
-    Validate(tbi::validate::ValidateArgs),
+    Validate(tbi::cli::validate::ValidateArgs),
 }
 
 #[derive(Subcommand)]
@@ -69,13 +69,13 @@ fn main() -> ExitCode {
         tbi::interrupt::install();
     }
     let result = match cli.command {
-        Command::Simulate(args) => tbi::simulate::main(args),
-        Command::Cosim(args) => tbi::cosim_cmd::main(args),
-        Command::Validate(args) => tbi::validate::main(args),
-        Command::Run(args) => tbi::run::main(args),
-        Command::Export(args) => tbi::export::main(args),
-        Command::Modes(args) => tbi::modes::main(args),
-        Command::Sweep(args) => tbi::sweep::main(args),
+        Command::Simulate(args) => tbi::cli::simulate::main(args),
+        Command::Cosim(args) => tbi::cli::cosim::main(args),
+        Command::Validate(args) => tbi::cli::validate::main(args),
+        Command::Run(args) => tbi::cli::run::main(args),
+        Command::Export(args) => tbi::cli::export::main(args),
+        Command::Modes(args) => tbi::cli::modes::main(args),
+        Command::Sweep(args) => tbi::cli::sweep::main(args),
         Command::Scenario {
             what: ScenarioCommand::Show { name },
         } => tbi::scenario::examples::text(name.as_deref()).map(|t| {
@@ -89,16 +89,18 @@ fn main() -> ExitCode {
             }
             Ok(())
         }
-        Command::Bench(args) => tbi::bench::main(args),
+        Command::Bench(args) => tbi::cli::bench::main(args),
     };
     match result {
-        Ok(()) if tbi::console::any_check_failed() => {
-            ExitCode::from(tbi::console::EXIT_CHECK_FAILED)
+        Ok(()) if tbi::output::console::any_check_failed() => {
+            ExitCode::from(tbi::output::console::EXIT_CHECK_FAILED)
         }
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("tbi: error: {e:#}");
-            if e.downcast_ref::<tbi::console::UsageError>().is_some() {
+            if e.downcast_ref::<tbi::output::console::UsageError>()
+                .is_some()
+            {
                 ExitCode::from(2)
             } else if tbi::interrupt::interrupted() {
                 ExitCode::from(130)

@@ -99,7 +99,7 @@ fn run(
             &base_dir,
             solver.as_deref(),
         )?;
-        tbi::run::run_scenario(&s, Path::new(&out), false, &tbi::model::Limits::default())
+        tbi::solve::run_scenario(&s, Path::new(&out), false, &tbi::model::Limits::default())
             .map(drop)
             .map_err(classify)
     })?;
@@ -127,7 +127,7 @@ fn design_check(
     keep_histories: bool,
     allow_large: bool,
 ) -> PyResult<(bool, String)> {
-    let args = tbi::sweep::SweepArgs {
+    let args = tbi::design::SweepOptions {
         scenario: path.map(PathBuf::from),
         speeds,
         trains,
@@ -146,8 +146,8 @@ fn design_check(
     let done = py.allow_threads(move || -> Result<(bool, String), Failure> {
         let base = tbi::scenario::load(args.scenario.as_deref(), args.solver.as_deref(), None)
             .map_err(Failure::Scenario)?;
-        let speeds = tbi::sweep::speeds(&args, &base).map_err(classify)?;
-        let done = tbi::design::run(&args, &speeds).map_err(classify)?;
+        let speeds = tbi::design::speeds::of(&args, &base).map_err(classify)?;
+        let done = tbi::design::hslm::run(&args, &speeds).map_err(classify)?;
         Ok((done.passed, done.text))
     })?;
     Ok(done)
@@ -168,7 +168,7 @@ fn export(
     let base_dir = base_dir.to_owned();
     Ok(py.allow_threads(move || -> Result<_, Failure> {
         let s = load(path.as_deref(), text.as_deref(), &origin, &base_dir, None)?;
-        let e = tbi::export::export_scenario(&s, Path::new(&out)).map_err(classify)?;
+        let e = tbi::fmus::export::export_scenario(&s, Path::new(&out)).map_err(classify)?;
         let show = |p: &Path| p.display().to_string();
         Ok((show(&e.bridge), show(&e.train), show(&e.ssp)))
     })?)
@@ -189,7 +189,7 @@ fn modes(
     let base_dir = base_dir.to_owned();
     Ok(py.allow_threads(move || -> Result<_, Failure> {
         let s = load(path.as_deref(), text.as_deref(), &origin, &base_dir, None)?;
-        let set = tbi::modes::mode_set(&s).map_err(Failure::Scenario)?;
+        let set = tbi::model::modes::mode_set(&s).map_err(Failure::Scenario)?;
         let bridge = tbi::model::build_bridge(&s).map_err(|e| Failure::Scenario(e.to_string()))?;
         let rows: Vec<serde_json::Value> = set
             .modes
@@ -255,7 +255,7 @@ fn toml_to_json(text: &str, origin: &str) -> PyResult<String> {
 /// co-simulation and export pack into FMUs: the package's own copy (`tbi/_lib`; set once).
 #[pyfunction]
 fn set_library_dirs(dirs: Vec<String>) {
-    tbi::export::set_library_dirs(dirs.into_iter().map(PathBuf::from).collect());
+    tbi::fmus::export::set_library_dirs(dirs.into_iter().map(PathBuf::from).collect());
 }
 
 #[pymodule]

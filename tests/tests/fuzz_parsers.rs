@@ -137,7 +137,7 @@ fn model_description_xml() {
 fn system_structure_ssd() {
     let seed =
         std::fs::read_to_string(tbi_tests::repo_path("tests/golden/yang-yau-system.ssd")).unwrap();
-    let parse = |b: &[u8]| tbi::ssp::parse_ssd(&text(b), "fuzz.ssd").is_ok();
+    let parse = |b: &[u8]| tbi_ssp::parse_ssd(&text(b), "fuzz.ssd").is_ok();
     fuzz::corpus("ssd", &[b"<a/>", b"<ssd:Component name=\"x\"/>"], parse);
     let accepted = fuzz::run("ssd", 0x55d0, &[seed.as_bytes()], CASES, parse);
     assert!(accepted > 100, "only {accepted} mutated SSDs were valid");

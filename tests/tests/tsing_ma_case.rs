@@ -8,7 +8,7 @@
 mod common;
 use common::tbi;
 use std::process::Command;
-use tbi::summary::Summary;
+use tbi::output::summary::Summary;
 use tbi_tests::{compare, run_ok, scratch, worst, Table};
 
 const PAPER_DECK_DISPLACEMENT_CM: [f64; 4] = [49.39, 49.52, 51.29, 54.04];

@@ -30,14 +30,14 @@ fn modal_static(modes: usize, u: f64, x: f64) -> (f64, [f64; 3]) {
 fn run_text(text: &str, label: &str) -> (Scenario, tbi_tests::Table) {
     let s = Scenario::from_toml(text, &format!("{label}.toml"), std::path::Path::new(".")).unwrap();
     let out = tbi_tests::scratch(label).join("run");
-    tbi::run::run_scenario(&s, &out, false, &tbi::model::Limits::none()).unwrap();
+    tbi::solve::run_scenario(&s, &out, false, &tbi::model::Limits::none()).unwrap();
     (s, tbi_tests::Table::read(&out.join("history.csv")))
 }
 
 #[test]
 fn mean_wind_on_the_tsing_ma_deck_modal_against_direct_static() {
     let (u, x) = (25.0, 1141.0);
-    let fe = tbi_fe::FeModel::build(&tbi::suspension::preset_params(
+    let fe = tbi_fe::FeModel::build(&tbi::model::suspension::preset_params(
         tbi::scenario::SuspensionPreset::TsingMa,
     ))
     .unwrap();

@@ -37,9 +37,10 @@
 //! `load_average_after` (the one-minute load average at the start and at the end, where the
 //! system reports one; `null` elsewhere) and `cores` (the cores the process may use).
 
-use crate::run::run_scenario;
+use crate::design::SweepOptions;
+use crate::output::summary::Summary;
 use crate::scenario::Scenario;
-use crate::summary::Summary;
+use crate::solve::run_scenario;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -171,11 +172,26 @@ fn measure(
     Ok((wall, sim, summary))
 }
 
+/// The figures `--json` writes, by name.
+type Figures = serde_json::Map<String, serde_json::Value>;
+
 pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let load_before = load_average();
+    let mut figures = serde_json::Map::new();
+    default_case(&args, &mut figures)?;
+    if args.quick {
+        return write_figures(&args, figures, load_before);
+    }
+    scale_and_growth(&args, &mut figures)?;
+    tsing_ma_fe_and_wind(&args, &mut figures)?;
+    design_checks(&args, &mut figures)?;
+    write_figures(&args, figures, load_before)
+}
+
+/// The bench case, monolithic against co-simulation, `args.repeat` times alternating.
+fn default_case(args: &BenchArgs, figures: &mut Figures) -> Result<(), Box<dyn std::error::Error>> {
     let s = Scenario::from_toml(BENCH_SCENARIO, "<bench scenario>", Path::new("."))?;
     let sim_time = crate::model::build(&s)?.t_end();
-    let mut figures = serde_json::Map::new();
     let mut cosim = s.clone();
     cosim.run.solver = crate::scenario::SolverKind::Cosim;
     let (mut mono_walls, mut co_walls) = (Vec::new(), Vec::new());
@@ -260,49 +276,61 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         "cosim_steps_by_iterations".into(),
         serde_json::to_value(by)?,
     );
-    if !args.quick {
-        use crate::scenario::SolverKind::{Cosim, Monolithic};
-        let scale = Scenario::from_toml(SCALE_SCENARIO, "<scale scenario>", Path::new("."))?;
-        let (mw, ms, _) = measure(&scale, Monolithic, &args.out.join("scale-monolithic"))?;
-        let (cw, cs, _) = measure(&scale, Cosim, &args.out.join("scale-cosim"))?;
-        crate::say!(
-            "scale case (Tsing Ma, 200 modes, 32 coaches = 128 wheelsets): simulated/wall monolithic {:.1}, co-simulation {:.1}",
-            ms / mw,
-            cs / cw
-        );
-        figures.insert("scale_monolithic_realtime_factor".into(), (ms / mw).into());
-        figures.insert("scale_cosim_realtime_factor".into(), (cs / cw).into());
-        crate::say!("cost growth at 300 km/h, wall s per simulated s:");
-        crate::say!("  modes  coaches  monolithic  co-simulation");
-        let mut growth = Vec::new();
-        for modes in [20, 50, 100, 200] {
-            for coaches in [1, 8, 32] {
-                let v = variant(modes, coaches, 300.0)?;
-                let dir = args.out.join(format!("growth-{modes}-{coaches}"));
-                let (mw, ms, _) = measure(&v, Monolithic, &dir.join("monolithic"))?;
-                let (cw, cs, _) = measure(&v, Cosim, &dir.join("cosim"))?;
-                crate::say!(
-                    "  {modes:>5}  {coaches:>7}  {:>10.4}  {:>13.4}",
-                    mw / ms,
-                    cw / cs
-                );
-                for (solver, per) in [("monolithic", mw / ms), ("cosim", cw / cs)] {
-                    growth.push(serde_json::json!({
-                        "modes": modes,
-                        "coaches": coaches,
-                        "solver": solver,
-                        "wall_s_per_simulated_s": per,
-                    }));
-                }
+    Ok(())
+}
+
+/// The scale case and the cost growth with modes and coaches.
+fn scale_and_growth(
+    args: &BenchArgs,
+    figures: &mut Figures,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::scenario::SolverKind::{Cosim, Monolithic};
+    let scale = Scenario::from_toml(SCALE_SCENARIO, "<scale scenario>", Path::new("."))?;
+    let (mw, ms, _) = measure(&scale, Monolithic, &args.out.join("scale-monolithic"))?;
+    let (cw, cs, _) = measure(&scale, Cosim, &args.out.join("scale-cosim"))?;
+    crate::say!(
+        "scale case (Tsing Ma, 200 modes, 32 coaches = 128 wheelsets): simulated/wall monolithic {:.1}, co-simulation {:.1}",
+        ms / mw,
+        cs / cw
+    );
+    figures.insert("scale_monolithic_realtime_factor".into(), (ms / mw).into());
+    figures.insert("scale_cosim_realtime_factor".into(), (cs / cw).into());
+    crate::say!("cost growth at 300 km/h, wall s per simulated s:");
+    crate::say!("  modes  coaches  monolithic  co-simulation");
+    let mut growth = Vec::new();
+    for modes in [20, 50, 100, 200] {
+        for coaches in [1, 8, 32] {
+            let v = variant(modes, coaches, 300.0)?;
+            let dir = args.out.join(format!("growth-{modes}-{coaches}"));
+            let (mw, ms, _) = measure(&v, Monolithic, &dir.join("monolithic"))?;
+            let (cw, cs, _) = measure(&v, Cosim, &dir.join("cosim"))?;
+            crate::say!(
+                "  {modes:>5}  {coaches:>7}  {:>10.4}  {:>13.4}",
+                mw / ms,
+                cw / cs
+            );
+            for (solver, per) in [("monolithic", mw / ms), ("cosim", cw / cs)] {
+                growth.push(serde_json::json!({
+                    "modes": modes,
+                    "coaches": coaches,
+                    "solver": solver,
+                    "wall_s_per_simulated_s": per,
+                }));
             }
         }
-        figures.insert("growth".into(), growth.into());
     }
-    if args.quick {
-        return write_figures(&args, figures, load_before);
-    }
+    figures.insert("growth".into(), growth.into());
+    Ok(())
+}
+
+/// The Tsing Ma FE model's assembly and modes, and the default case with and without wind.
+fn tsing_ma_fe_and_wind(
+    args: &BenchArgs,
+    figures: &mut Figures,
+) -> Result<(), Box<dyn std::error::Error>> {
     let t = Instant::now();
-    let params = crate::suspension::preset_params(crate::scenario::SuspensionPreset::TsingMa);
+    let params =
+        crate::model::suspension::preset_params(crate::scenario::SuspensionPreset::TsingMa);
     let fe = tbi_fe::FeModel::build(&params).map_err(|e| e.to_string())?;
     let assembled = t.elapsed().as_secs_f64();
     fe.modes(50).map_err(|e| e.to_string())?;
@@ -332,22 +360,19 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         "tsing_ma_wind_over_still_air".into(),
         (windy_wall / still_wall).into(),
     );
+    Ok(())
+}
+
+/// The four-speed Tsing Ma sweep and the HSLM-A check of a 20 m span.
+fn design_checks(
+    args: &BenchArgs,
+    figures: &mut Figures,
+) -> Result<(), Box<dyn std::error::Error>> {
     let t = Instant::now();
-    crate::sweep::main(crate::sweep::SweepArgs {
-        scenario: None,
+    crate::design::run(&SweepOptions {
         speeds: ["20", "40", "70", "120"].map(String::from).to_vec(),
-        trains: Vec::new(),
-        track: "ballasted".into(),
-        comfort: "very-good".into(),
-        all_modes: false,
-        keep_histories: false,
-        alpha: 1.0,
-        maintenance: "careful".into(),
-        wind_speeds: Vec::new(),
-        wheel_unloading_limit: 0.9,
-        solver: None,
         out: args.out.join("sweep"),
-        allow_large: false,
+        ..SweepOptions::default()
     })?;
     let sweep = t.elapsed().as_secs_f64();
     crate::say!("Tsing Ma four-speed sweep (co-simulation, in parallel): {sweep:.1} s");
@@ -356,25 +381,16 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let span = args.out.join("hslm-20m.toml");
     std::fs::write(&span, HSLM_SPAN)?;
     let t = Instant::now();
-    crate::sweep::main(crate::sweep::SweepArgs {
+    crate::design::run(&SweepOptions {
         scenario: Some(span),
         speeds: vec!["140:420:2.5".into()],
         trains: vec!["hslm-a".into()],
-        track: "ballasted".into(),
-        comfort: "very-good".into(),
-        all_modes: false,
-        keep_histories: false,
-        alpha: 1.0,
-        maintenance: "careful".into(),
-        wind_speeds: Vec::new(),
-        wheel_unloading_limit: 0.9,
-        solver: None,
         out: args.out.join("hslm"),
-        allow_large: false,
+        ..SweepOptions::default()
     })?;
     let hslm = t.elapsed().as_secs_f64();
     // the check's verdicts are the span's, not the bench's: they set no exit code here
-    crate::console::clear_check_failed();
+    crate::output::console::clear_check_failed();
     let envelope = std::fs::read_to_string(args.out.join("hslm/envelope.csv"))?;
     let count = |point: &str| {
         envelope
@@ -397,7 +413,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         "hslm_bytes_written".into(),
         dir_bytes(&args.out.join("hslm")).into(),
     );
-    write_figures(&args, figures, load_before)
+    Ok(())
 }
 
 /// A 20 m simply supported concrete span (f₁ = 6.4 Hz, three modes to 57 Hz) for the HSLM
@@ -476,7 +492,7 @@ fn write_figures(
     figures.insert("load_average_after".into(), load_after.into());
     figures.insert("cores".into(), cores.into());
     if let Some(path) = &args.json {
-        crate::outdir::write_atomically(
+        crate::output::outdir::write_atomically(
             path,
             serde_json::to_string_pretty(&serde_json::Value::Object(figures))?.as_bytes(),
         )?;

@@ -92,12 +92,12 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
                 .unwrap_or_else(|| "result".into());
             PathBuf::from(format!("{stem}_out.csv"))
         });
-        let partial = crate::outdir::with_suffix(&path, ".partial");
+        let partial = crate::output::outdir::with_suffix(&path, ".partial");
         let mut inputs = vec![(args.fmu.clone(), "the FMU".to_string())];
         if let Some(i) = &args.input {
             inputs.push((i.clone(), "the --input file".to_string()));
         }
-        crate::outdir::refuse_inputs(&[path.clone(), partial.clone()], &inputs)
+        crate::output::outdir::refuse_inputs(&[path.clone(), partial.clone()], &inputs)
             .map_err(SimulateError::Invalid)?;
         let mut sink = LazyFile::new(&partial);
         let run = simulate_into(&fmu, &options, &mut sink);

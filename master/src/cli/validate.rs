@@ -10,8 +10,9 @@
 //! difference. With `--tolerance`, a worst difference above it makes the command fail.
 
 use crate::model::Limits;
-use crate::plots::History;
+use crate::output::plots::History;
 use crate::scenario::SolverKind;
+use crate::solve::compare::{differences, ColumnDifference};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use tbi_coupling::{AccelerationKind, SchemeKind};
@@ -37,56 +38,6 @@ pub struct ValidateArgs {
     /// No progress bars.
     #[arg(long)]
     pub quiet: bool,
-}
-
-/// The difference of one column.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct ColumnDifference {
-    pub column: String,
-    /// `max |co − mono| / max |mono|`.
-    pub relative: f64,
-    /// Time of the largest `|co − mono|`, s.
-    pub time_s: f64,
-}
-
-/// Differences of every column (but time) of two histories with the same columns and rows.
-pub fn differences(mono: &History, co: &History) -> Result<Vec<ColumnDifference>, String> {
-    if mono.names != co.names {
-        return Err("the two histories have different columns".into());
-    }
-    let t = mono.column("time_s").ok_or("history without time_s")?;
-    let mut out = Vec::new();
-    for (j, name) in mono.names.iter().enumerate() {
-        if name == "time_s" {
-            continue;
-        }
-        let (a, b) = (&mono.columns[j], &co.columns[j]);
-        if a.len() != b.len() {
-            return Err(format!("{name}: {} rows against {}", a.len(), b.len()));
-        }
-        let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let (mut worst, mut at) = (0.0_f64, t.first().copied().unwrap_or(0.0));
-        for (k, (x, y)) in a.iter().zip(b).enumerate() {
-            let d = (x - y).abs();
-            if d.is_nan() || d > worst {
-                worst = if d.is_nan() { f64::INFINITY } else { d };
-                at = t[k];
-            }
-        }
-        let relative = if scale > 0.0 {
-            worst / scale
-        } else if worst == 0.0 {
-            0.0
-        } else {
-            f64::INFINITY
-        };
-        out.push(ColumnDifference {
-            column: name.clone(),
-            relative,
-            time_s: at,
-        });
-    }
-    Ok(out)
 }
 
 fn group_of(column: &str, probes: &[String]) -> &'static str {
@@ -122,7 +73,7 @@ pub fn main(args: ValidateArgs) -> Result<(), Box<dyn std::error::Error>> {
     for solver in [SolverKind::Monolithic, SolverKind::Cosim] {
         s.run.solver = solver;
         let dir = out.join(solver.as_str());
-        crate::run::run_scenario(&s, &dir, !args.quiet, &limits)?;
+        crate::solve::run_scenario(&s, &dir, !args.quiet, &limits)?;
         runs.push(History::read(&dir.join("history.csv"))?);
     }
     let diffs = differences(&runs[0], &runs[1])?;
@@ -170,7 +121,7 @@ pub fn main(args: ValidateArgs) -> Result<(), Box<dyn std::error::Error>> {
         "tolerance": args.tolerance,
         "passed": passed,
     });
-    crate::outdir::write_atomically(
+    crate::output::outdir::write_atomically(
         &out.join("validation.json"),
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
@@ -185,7 +136,7 @@ pub fn main(args: ValidateArgs) -> Result<(), Box<dyn std::error::Error>> {
             worst.relative,
             worst.column,
             worst.time_s,
-            crate::model::num(args.tolerance.expect("checked"))
+            crate::text::num(args.tolerance.expect("checked"))
         )
         .into());
     }
@@ -206,7 +157,7 @@ fn plot_worst(path: &Path, runs: &[History], column: &str) -> Result<(), String>
         .ok_or("worst column missing")?
         .to_vec();
     let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| y - x).collect();
-    crate::plots::figure(
+    crate::output::plots::figure(
         path,
         &[
             (

@@ -10,9 +10,9 @@
 //! Files: `wind_cases.csv` (every case), `wind_curve.csv` (train speed, characteristic wind
 //! speed), `wind_curve.svg` (the curve), and the runs in `OUT/v<speed>/u<wind>`.
 
-use crate::run::run_scenario;
+use crate::design::SweepOptions;
 use crate::scenario::Scenario;
-use crate::sweep::SweepArgs;
+use crate::solve::run_scenario;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 
@@ -32,16 +32,16 @@ pub fn characteristic_wind(points: &[(f64, f64)], limit: f64) -> Option<f64> {
 }
 
 pub fn main(
-    args: &SweepArgs,
+    args: &SweepOptions,
     base: &Scenario,
     speeds: &[f64],
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let winds = crate::sweep::parse_range(&args.wind_speeds, "--wind-speeds", "m/s")?;
+    let winds = crate::design::speeds::parse_range(&args.wind_speeds, "--wind-speeds", "m/s")?;
     let limit = args.wheel_unloading_limit;
     if !(limit.is_finite() && limit > 0.0) {
         return Err(format!("--wheel-unloading-limit {limit}: must be positive").into());
     }
-    let num = crate::model::num;
+    let num = crate::text::num;
     let mut cases = Vec::new();
     for &v in speeds {
         for &u in &winds {
@@ -59,7 +59,7 @@ pub fn main(
         crate::model::Limits::default()
     };
     crate::model::build_bridge(base)?;
-    let pb = crate::progress::counted(cases.len(), "cases", true);
+    let pb = crate::output::progress::counted(cases.len(), "cases", true);
     let results: Vec<Result<Case, String>> = cases
         .par_iter()
         .map(|(v, u, s)| {
@@ -86,7 +86,7 @@ pub fn main(
     for (v, u, a, d) in &rows {
         let _ = writeln!(csv, "{v:e},{u:e},{a:e},{d:e}");
     }
-    crate::outdir::write_atomically(&args.out.join("wind_cases.csv"), csv.as_bytes())?;
+    crate::output::outdir::write_atomically(&args.out.join("wind_cases.csv"), csv.as_bytes())?;
     let mut curve = String::from("speed_kmh,characteristic_wind_speed_m_s\n");
     let mut points = Vec::new();
     crate::say!(
@@ -120,21 +120,21 @@ pub fn main(
             points.push((v, x));
         }
     }
-    crate::outdir::write_atomically(&args.out.join("wind_curve.csv"), curve.as_bytes())?;
-    let svg = crate::report::chart(
+    crate::output::outdir::write_atomically(&args.out.join("wind_curve.csv"), curve.as_bytes())?;
+    let svg = crate::output::html::chart(
         &format!(
             "Characteristic wind curve of {} (ΔQ/Q₀ = {limit})",
             base.name
         ),
         "train speed (km/h)",
         "mean wind speed (m/s)",
-        &[crate::report::Series {
+        &[crate::output::html::Series {
             label: format!("ΔQ/Q₀ = {limit}"),
             points,
         }],
-        &crate::report::Marks::default(),
+        &crate::output::html::Marks::default(),
     )?;
-    crate::outdir::write_atomically(&args.out.join("wind_curve.svg"), svg.as_bytes())?;
+    crate::output::outdir::write_atomically(&args.out.join("wind_curve.svg"), svg.as_bytes())?;
     eprintln!(
         "tbi: {} cases; wind_curve.csv, wind_curve.svg, wind_cases.csv and the runs in {}",
         rows.len(),

@@ -1,7 +1,11 @@
 //! From a scenario to the objects the solvers integrate: the modal bridge, the train, the
 //! track irregularity, the probes and the time grid.
 
+pub mod modes;
+pub mod suspension;
+
 use crate::scenario::{Bridge, ModalOptions, Scenario};
+use crate::text::num;
 use std::sync::Arc;
 use tbi_dynamics::bridge::{ModalBridge, ModeSet};
 use tbi_dynamics::train::Train;
@@ -163,16 +167,6 @@ impl Limits {
     }
 }
 
-/// A number for messages: plain for ordinary magnitudes, in scientific notation otherwise
-/// (so 1e-300 is not printed with 300 digits).
-pub fn num(v: f64) -> String {
-    if v == 0.0 || (1e-4..1e15).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
-
 /// The nodal modes of a bridge given by nodal modes (`None` for analytic kinds).
 pub fn nodal_modes(s: &Scenario) -> Result<Option<(ModeSet, &ModalOptions, String)>, InputError> {
     match &s.bridge {
@@ -209,7 +203,7 @@ pub fn nodal_modes(s: &Scenario) -> Result<Option<(ModeSet, &ModalOptions, Strin
             Ok(Some((set, modal, "continuous beam".into())))
         }
         Bridge::Suspension { preset, modal } => {
-            let set = crate::suspension::preset_modes(*preset, modal.modes)
+            let set = crate::model::suspension::preset_modes(*preset, modal.modes)
                 .map_err(|e| InputError::field(&s.origin, "bridge.preset", preset.name(), e))?;
             Ok(Some((set, modal, "built-in suspension model".into())))
         }

@@ -37,7 +37,7 @@ pub fn say_fmt(args: std::fmt::Arguments<'_>) {
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {
-        $crate::console::say_fmt(format_args!($($arg)*))
+        $crate::output::console::say_fmt(format_args!($($arg)*))
     };
 }
 

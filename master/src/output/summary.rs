@@ -184,7 +184,7 @@ impl Summary {
     /// Write `summary.json` into `out` (through a temporary file and a rename).
     pub fn write(&self, out: &Path) -> Result<(), String> {
         let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
-        crate::outdir::write_atomically(&out.join("summary.json"), text.as_bytes())
+        crate::output::outdir::write_atomically(&out.join("summary.json"), text.as_bytes())
     }
 }
 
@@ -206,7 +206,7 @@ pub fn text(s: &Summary, out: &Path) -> (String, bool) {
         "{}: {} at {} km/h, {} steps ({:.3} s simulated) in {:.2} s wall{}",
         s.name,
         s.solver,
-        crate::model::num(s.speed_kmh),
+        crate::text::num(s.speed_kmh),
         s.steps,
         s.simulated_time_s,
         s.wall_time_s,
@@ -217,24 +217,7 @@ pub fn text(s: &Summary, out: &Path) -> (String, bool) {
         }
     );
     if let Some(w) = &s.bridge.wind {
-        let _ = writeln!(
-            t,
-            "  wind: mean {} m/s on the deck (steady drag {:.0} N/m, lift {:.0} N/m, moment {:.0} N·m/m){}; the bridge starts in its static response",
-            crate::model::num(w.mean_speed_m_s),
-            w.deck_load[0],
-            -w.deck_load[1],
-            w.deck_load[2],
-            match &w.turbulence {
-                Some(t) => format!(
-                    ", buffeting by {} turbulence (I_u {}, I_w {}) at {} deck points",
-                    t.spectrum.name(),
-                    t.intensity_u,
-                    t.intensity_w,
-                    w.deck_points.unwrap_or(0)
-                ),
-                None => String::new(),
-            }
-        );
+        let _ = writeln!(t, "{}", wind_line(w));
     }
     let _ = writeln!(
         t,
@@ -273,39 +256,7 @@ pub fn text(s: &Summary, out: &Path) -> (String, bool) {
             );
         }
     }
-    match &s.vehicles {
-        None => {
-            let _ = writeln!(t, "  car bodies: none modelled (moving forces)");
-        }
-        Some(v) => {
-            let bv = v.vertical_acceleration_max_m_s2;
-            let comfort = if bv <= 1.0 {
-                "very good"
-            } else if bv <= 1.3 {
-                "good"
-            } else if bv <= 2.0 {
-                "acceptable"
-            } else {
-                "beyond acceptable"
-            };
-            let sperling = v
-                .sperling_vertical
-                .iter()
-                .flatten()
-                .copied()
-                .fold(f64::NEG_INFINITY, f64::max);
-            let _ = writeln!(
-                t,
-                "  car bodies: vertical acceleration {bv:.4} m/s² (EN 1990 Table A2.9: {comfort}); lateral {:.4} m/s²{}",
-                v.lateral_acceleration_max_m_s2,
-                if sperling.is_finite() {
-                    format!("; Sperling W (vertical) up to {sperling:.2}")
-                } else {
-                    String::new()
-                }
-            );
-        }
-    }
+    let _ = writeln!(t, "{}", car_body_line(s.vehicles.as_ref()));
     if let Some(f) = &s.safety {
         let lateral = s
             .vehicles
@@ -350,4 +301,57 @@ pub fn text(s: &Summary, out: &Path) -> (String, bool) {
         out.display()
     );
     (t, checks.iter().all(|&ok| ok))
+}
+
+/// The short summary's wind line.
+fn wind_line(w: &WindSummary) -> String {
+    format!(
+        "  wind: mean {} m/s on the deck (steady drag {:.0} N/m, lift {:.0} N/m, moment {:.0} N·m/m){}; the bridge starts in its static response",
+        crate::text::num(w.mean_speed_m_s),
+        w.deck_load[0],
+        -w.deck_load[1],
+        w.deck_load[2],
+        match &w.turbulence {
+            Some(t) => format!(
+                ", buffeting by {} turbulence (I_u {}, I_w {}) at {} deck points",
+                t.spectrum.name(),
+                t.intensity_u,
+                t.intensity_w,
+                w.deck_points.unwrap_or(0)
+            ),
+            None => String::new(),
+        }
+    )
+}
+
+/// The short summary's car-body line: the largest accelerations against EN 1990 Table A2.9.
+fn car_body_line(vehicles: Option<&VehicleMax>) -> String {
+    let Some(v) = vehicles else {
+        return "  car bodies: none modelled (moving forces)".to_string();
+    };
+    let bv = v.vertical_acceleration_max_m_s2;
+    let comfort = if bv <= 1.0 {
+        "very good"
+    } else if bv <= 1.3 {
+        "good"
+    } else if bv <= 2.0 {
+        "acceptable"
+    } else {
+        "beyond acceptable"
+    };
+    let sperling = v
+        .sperling_vertical
+        .iter()
+        .flatten()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    format!(
+        "  car bodies: vertical acceleration {bv:.4} m/s² (EN 1990 Table A2.9: {comfort}); lateral {:.4} m/s²{}",
+        v.lateral_acceleration_max_m_s2,
+        if sperling.is_finite() {
+            format!("; Sperling W (vertical) up to {sperling:.2}")
+        } else {
+            String::new()
+        }
+    )
 }

@@ -1,13 +1,13 @@
 //! Co-simulation of the bridge and train FMUs through the FMI 2.0 C ABI.
 //!
 //! The scenario's FMUs are exported (or reused) in `<out>/fmus`, loaded with the importer,
-//! wired along [`crate::export::connections`] and advanced by the configured coupling
+//! wired along [`crate::fmus::ssd::connections`] and advanced by the configured coupling
 //! scheme. The bridge comes first in the sweep, so the iterated interface (the feedback
 //! connections) is what the train sends to the bridge: wheelset positions, speeds and
 //! forces. Every step's outputs fill the same [`Sample`] as the monolithic solver.
 
 use crate::model::Model;
-use crate::summary::CouplingSummary;
+use crate::output::summary::CouplingSummary;
 use fmu_bridge::layout::probe_values;
 use fmu_contract::wheel;
 use std::path::Path;
@@ -28,10 +28,10 @@ pub fn run_cosim<W: std::io::Write>(
     // One co-simulation code path: the FMUs are run as the exported SSP system (its
     // description, with the FMUs written beside the archive), as `tbi cosim system.ssp`
     // runs it.
-    let exported = crate::export::export_with(model, cfg, fmu_dir, true)?;
+    let exported = crate::fmus::export::export_with(model, cfg, fmu_dir, true)?;
     let t_end = model.t_end();
-    let open = crate::ssp::open_exported(&exported.ssd, &exported.ssp)?;
-    let mut sys = crate::ssp::wire(&open, &[], 0.0, t_end)?.system;
+    let open = tbi_ssp::open_exported(&exported.ssd, &exported.ssp)?;
+    let mut sys = tbi_ssp::wire(&open, &[], 0.0, t_end)?.system;
     let mut scheme = build_scheme(cfg)?;
     scheme.initialize(&mut sys)?;
     let (bl, tl) = (&exported.bridge_layout, &exported.train_layout);
@@ -49,7 +49,7 @@ pub fn run_cosim<W: std::io::Write>(
     let mut sample = Sample::default();
     let mut sample_at =
         |sys: &mut System, t: f64, sample: &mut Sample| -> Result<(), CouplingError> {
-            use crate::export::Side;
+            use crate::fmus::ssd::Side;
             sys.participants[Side::Bridge as usize].get_real(&probe_vrs, &mut pv)?;
             sys.participants[Side::Train as usize].get_real(&force_vrs, &mut fv)?;
             sys.participants[Side::Train as usize].get_real(&veh_vrs, &mut vv)?;
@@ -74,7 +74,7 @@ pub fn run_cosim<W: std::io::Write>(
     rec.record(&sample, true)?;
     let mut stats = CouplingStatistics::new();
     let mut report = tbi_coupling::AdvanceReport::default();
-    let pb = crate::progress::bar(model.steps, show_progress);
+    let pb = crate::output::progress::bar(model.steps, show_progress);
     let h = model.dt;
     for k in 1..=model.steps {
         let t = (k - 1) as f64 * h;

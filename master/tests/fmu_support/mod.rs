@@ -1,6 +1,6 @@
 //! Building the C test FMUs (tests/c-fmu: `<model>.c` with its description `<model>.xml`;
 //! the oscillator, the sprung-mass vehicle, the Integer/Boolean counter) in variants and packaging them with
-//! `tbi::package::write_fmu` (needs master's internals, so it stays here). Running `tbi`,
+//! `tbi::fmus::package::write_fmu` (needs master's internals, so it stays here). Running `tbi`,
 //! scratch folders, FMPy and the CSV comparison are in the shared `tbi_tests` library.
 #![allow(dead_code)]
 
@@ -113,7 +113,7 @@ pub fn build_fmu(variant: &Variant) -> PathBuf {
         .iter()
         .map(|g| ("gain.txt".to_owned(), g.clone().into_bytes()))
         .collect();
-    tbi::package::write_fmu(
+    tbi::fmus::package::write_fmu(
         &fmu,
         &model_description_xml(variant),
         variant.model,

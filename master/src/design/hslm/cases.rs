@@ -105,7 +105,7 @@ impl Source {
             format!(
                 "{} at {} km/h: {e}",
                 case.train,
-                crate::model::num(case.speed_kmh)
+                crate::text::num(case.speed_kmh)
             )
         })
     }

@@ -38,14 +38,14 @@ pub struct Options {
 }
 
 impl Options {
-    pub fn from_args(args: &crate::sweep::SweepArgs) -> Result<Options, String> {
+    pub fn from_args(args: &crate::design::SweepOptions) -> Result<Options, String> {
         if !en1991::LM71_ALPHAS
             .iter()
             .any(|a| (a - args.alpha).abs() < 1e-12)
         {
             return Err(format!(
                 "--alpha {}: LM71's classification factor is one of {} (EN 1991-2 §6.3.2(3))",
-                crate::model::num(args.alpha),
+                crate::text::num(args.alpha),
                 en1991::LM71_ALPHAS
                     .iter()
                     .map(|a| format!("{a:.2}"))
@@ -149,7 +149,7 @@ pub fn compare(
         let x = p.x_m - x0;
         let span = span_of(&beam.spans_m, x);
         let l_phi = en1991::determinant_length(&beam.spans_m, beam.continuous, span);
-        let here = format!("{} (x = {} m)", p.name, crate::model::num(p.x_m));
+        let here = format!("{} (x = {} m)", p.name, crate::text::num(p.x_m));
         for (effect, name, unit, scale) in [
             (
                 Effect::Displacement { x_m: x },

@@ -26,8 +26,9 @@ pub mod en;
 pub mod refine;
 pub mod report;
 
-use crate::model::{num, Limits};
-use crate::sweep::SweepArgs;
+use crate::design::SweepOptions;
+use crate::model::Limits;
+use crate::text::num;
 use cases::{Case, Source};
 use rayon::prelude::*;
 use refine::Point;
@@ -145,13 +146,13 @@ pub struct Outcome {
 }
 
 /// `tbi sweep --trains`: the check, its summary printed; exit code 3 when a check FAILs.
-pub fn main(args: &SweepArgs, speeds: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
+pub fn main(args: &SweepOptions, speeds: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     let done = run(args, speeds)?;
     for line in done.text.lines() {
         crate::say!("{line}");
     }
     if !done.passed {
-        crate::console::check_failed();
+        crate::output::console::check_failed();
     }
     eprintln!(
         "tbi: {} cases ({} on the grid with the resonance speeds, {} refining peaks); envelope.csv, report.html, summary.txt and governing/ in {}",
@@ -174,7 +175,7 @@ pub struct Done {
 /// The check of `args` over `speeds` into `args.out` (`envelope.csv`, `summary.txt`,
 /// `report.html`, `governing/`, the kept runs), printing nothing: for `tbi sweep` and the
 /// Python package.
-pub fn run(args: &SweepArgs, speeds: &[f64]) -> Result<Done, Box<dyn std::error::Error>> {
+pub fn run(args: &SweepOptions, speeds: &[f64]) -> Result<Done, Box<dyn std::error::Error>> {
     let trains = train_names(&args.trains)?;
     let (limit_m_s2, track) = match args.track.as_str() {
         "ballasted" => (3.5, "ballasted track"),
@@ -205,12 +206,12 @@ pub fn run(args: &SweepArgs, speeds: &[f64]) -> Result<Done, Box<dyn std::error:
         en: en::Options::from_args(args)?,
     };
     let started = std::time::Instant::now();
-    let out = crate::outdir::OutputDir::claim(&args.out)?;
+    let out = crate::output::outdir::OutputDir::claim(&args.out)?;
     let outcome = check(&source, &first, &trains, speeds, &options, out.path())?;
     let text = summary_text(&source, &outcome, &options, out.path());
-    crate::outdir::write_atomically(&out.path().join("summary.txt"), text.as_bytes())?;
+    crate::output::outdir::write_atomically(&out.path().join("summary.txt"), text.as_bytes())?;
     let html = report::html(&source, &outcome, &options, out.path(), started)?;
-    crate::outdir::write_atomically(&out.path().join("report.html"), html.as_bytes())?;
+    crate::output::outdir::write_atomically(&out.path().join("report.html"), html.as_bytes())?;
     let passed = checks(&outcome, &options).iter().all(|c| c.passed);
     Ok(Done {
         outcome,
@@ -252,14 +253,14 @@ pub fn check(
     }
     let statics = statics(trains, &bridge, first)?;
     let estimated_bytes = estimate_disk(source, trains, &grid, o, out)?;
-    let pb = crate::progress::counted(grid.len(), "cases", true);
+    let pb = crate::output::progress::counted(grid.len(), "cases", true);
     let evaluate = |t: &str, v: f64, point: Point| -> Result<Row, String> {
         let case = Case {
             train: t.to_string(),
             speed_kmh: v,
         };
         let s = source.scenario(&case)?;
-        let summary = crate::run::run_maxima(&s, &o.limits)
+        let summary = crate::solve::run_maxima(&s, &o.limits)
             .map_err(|e| format!("{t} at {} km/h: {e}", num(v)))?;
         Ok(row(&case, point, &summary, &statics[t]))
     };
@@ -292,7 +293,7 @@ pub fn check(
     .filter(|q| *q != Quantity::CarBodyAcceleration || o.comfort.is_some())
     .collect();
     let governing = write_governing(source, &rows, &quantities, out)?;
-    crate::outdir::write_atomically(
+    crate::output::outdir::write_atomically(
         &out.join("envelope.csv"),
         envelope_csv(&rows, &governing).as_bytes(),
     )?;
@@ -342,7 +343,7 @@ fn statics(
 fn row(
     case: &Case,
     point: Point,
-    summary: &crate::summary::Summary,
+    summary: &crate::output::summary::Summary,
     statics: &BTreeMap<String, f64>,
 ) -> Row {
     let max = |f: fn(&tbi_dynamics::response::ProbeMax) -> f64| {
@@ -467,7 +468,7 @@ fn write_governing(
         );
         text.push_str(&source.case_text(&case, Some(&name)));
         let path = dir.join(format!("{}.toml", q.name()));
-        crate::outdir::write_atomically(&path, text.as_bytes())?;
+        crate::output::outdir::write_atomically(&path, text.as_bytes())?;
         written.push((q, i, path));
     }
     Ok(written)
@@ -523,7 +524,7 @@ fn keep_runs(
                 speed_kmh: r.speed_kmh,
             };
             let s = source.scenario(&case)?;
-            crate::run::run_scenario(&s, &case_dir(out, &r.train, r.speed_kmh), false, &o.limits)
+            crate::solve::run_scenario(&s, &case_dir(out, &r.train, r.speed_kmh), false, &o.limits)
                 .map(|_| ())
                 .map_err(|e| format!("{} at {} km/h: {e}", r.train, num(r.speed_kmh)))
         })

@@ -10,8 +10,8 @@
 //! maxima.
 
 use super::{checks, governing_row, Options, Outcome, Quantity, Row};
-use crate::model::num;
-use crate::report::{chart, escape, page, table, Marks, Series};
+use crate::output::html::{chart, escape, page, table, Marks, Series};
+use crate::text::num;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -373,7 +373,7 @@ fn governing_history(
 ) -> Result<Option<(String, String)>, String> {
     let a = &outcome.rows[governing_row(&outcome.rows, Quantity::DeckAcceleration)];
     let path = super::case_dir(out, &a.train, a.speed_kmh).join("history.csv");
-    let h = crate::plots::History::read(&path)?;
+    let h = crate::output::plots::History::read(&path)?;
     let t = h
         .column("time_s")
         .ok_or("history.csv has no time_s")?

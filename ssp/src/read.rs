@@ -1,0 +1,269 @@
+//! `SystemStructure.ssd` and `.ssv` documents parsed into an [`Ssd`]: components,
+//! connections, parameter bindings, the default experiment and the coupling annotation,
+//! each malformed element refused with its line.
+
+use super::COUPLING_ANNOTATION;
+use quick_xml::events::{BytesStart, Event};
+use quick_xml::Reader;
+
+/// A parsed `SystemStructure.ssd`.
+#[derive(Debug, Clone, Default)]
+pub struct Ssd {
+    pub name: String,
+    pub components: Vec<Component>,
+    pub connections: Vec<SspConnection>,
+    pub start_time: Option<f64>,
+    pub stop_time: Option<f64>,
+    /// The attributes of the coupling annotation, as written.
+    pub coupling: Vec<(String, String)>,
+    /// The system's own outputs of the annotation (`<tbi:Output name element connector/>`):
+    /// what `tbi cosim` records by default, by name (`mid.z` for the bridge's
+    /// `probe[1].z`).
+    pub recorded: Vec<RecordedOutput>,
+}
+
+/// A system output the annotation names: `name` is `element.connector`'s.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RecordedOutput {
+    pub name: String,
+    pub element: String,
+    pub connector: String,
+}
+
+/// One `ssd:Component`.
+#[derive(Debug, Clone, Default)]
+pub struct Component {
+    pub name: String,
+    /// `source`: the FMU, relative to the archive or the `.ssd`'s folder.
+    pub source: String,
+    /// Inline parameter values, then those of `.ssv` files (`source`), in order.
+    pub parameters: Vec<(String, String)>,
+    /// `.ssv` files bound to the component.
+    pub parameter_files: Vec<String>,
+}
+
+/// One `ssd:Connection`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SspConnection {
+    pub start_element: String,
+    pub start_connector: String,
+    pub end_element: String,
+    pub end_connector: String,
+}
+
+pub(crate) fn attr(e: &BytesStart<'_>, key: &str) -> Option<String> {
+    e.attributes()
+        .flatten()
+        .find(|a| a.key.local_name().as_ref() == key)
+        .and_then(|a| {
+            a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
+                .ok()
+                .map(|v| v.into_owned())
+        })
+}
+
+pub(crate) fn line_of(text: &str, pos: usize) -> usize {
+    text[..pos.min(text.len())].matches('\n').count() + 1
+}
+
+/// Parse SSD text; `origin` names it in messages (with the line).
+pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
+    let mut r = Reader::from_str(xml);
+    let mut ssd = Ssd::default();
+    let mut stack: Vec<String> = Vec::new();
+    let mut in_annotation = false;
+    let mut parameter: Option<String> = None;
+    loop {
+        let pos = r.buffer_position() as usize;
+        let event = r.read_event().map_err(|e| {
+            format!(
+                "{origin}:{}: malformed XML: {e}",
+                line_of(xml, r.error_position() as usize)
+            )
+        })?;
+        let at = |what: String| format!("{origin}:{}: {what}", line_of(xml, pos));
+        match event {
+            Event::Start(ref e) | Event::Empty(ref e) => {
+                let name = e.local_name().as_ref().to_owned();
+                let inside = |n: &str| stack.iter().any(|s| s == n);
+                match name.as_str() {
+                    "SystemStructureDescription" => {
+                        ssd.name = attr(e, "name").unwrap_or_default();
+                    }
+                    "Component" if inside("Elements") => {
+                        let c = Component {
+                            name: attr(e, "name")
+                                .ok_or_else(|| at("<Component> has no name".into()))?,
+                            source: attr(e, "source")
+                                .ok_or_else(|| at("<Component> has no source".into()))?,
+                            ..Default::default()
+                        };
+                        if ssd.components.iter().any(|o| o.name == c.name) {
+                            return Err(at(format!("component \"{}\" is defined twice", c.name)));
+                        }
+                        ssd.components.push(c);
+                    }
+                    "Connection" if inside("Connections") => {
+                        let get = |k: &str| {
+                            attr(e, k).ok_or_else(|| at(format!("<Connection> has no {k}")))
+                        };
+                        ssd.connections.push(SspConnection {
+                            start_element: get("startElement")?,
+                            start_connector: get("startConnector")?,
+                            end_element: get("endElement")?,
+                            end_connector: get("endConnector")?,
+                        });
+                    }
+                    "DefaultExperiment" => {
+                        let num = |k: &str| -> Result<Option<f64>, String> {
+                            attr(e, k)
+                                .map(|v| {
+                                    v.parse::<f64>().map_err(|_| {
+                                        at(format!(
+                                            "<DefaultExperiment {k}=\"{v}\"> is not a number"
+                                        ))
+                                    })
+                                })
+                                .transpose()
+                        };
+                        ssd.start_time = num("startTime")?;
+                        ssd.stop_time = num("stopTime")?;
+                    }
+                    "Annotation" => {
+                        in_annotation = attr(e, "type").as_deref() == Some(COUPLING_ANNOTATION);
+                    }
+                    "Coupling" if in_annotation => {
+                        ssd.coupling = e
+                            .attributes()
+                            .flatten()
+                            .map(|a| {
+                                (
+                                    a.key.local_name().as_ref().to_owned(),
+                                    a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
+                                        .map(|v| v.into_owned())
+                                        .unwrap_or_default(),
+                                )
+                            })
+                            .collect();
+                    }
+                    "Output" if in_annotation => {
+                        let get = |k: &str| {
+                            attr(e, k).ok_or_else(|| at(format!("<tbi:Output> has no {k}")))
+                        };
+                        ssd.recorded.push(RecordedOutput {
+                            name: get("name")?,
+                            element: get("element")?,
+                            connector: get("connector")?,
+                        });
+                    }
+                    "ParameterBinding" if inside("Component") => {
+                        if let Some(src) = attr(e, "source") {
+                            let c = ssd.components.last_mut().expect("inside a component");
+                            c.parameter_files.push(src);
+                        }
+                    }
+                    "Parameter" if inside("Component") => {
+                        parameter = Some(
+                            attr(e, "name").ok_or_else(|| at("<Parameter> has no name".into()))?,
+                        );
+                    }
+                    "Real" | "Integer" | "Boolean" | "String" if parameter.is_some() => {
+                        let value = attr(e, "value")
+                            .ok_or_else(|| at(format!("<{name}> of a parameter has no value")))?;
+                        let c = ssd.components.last_mut().expect("inside a component");
+                        c.parameters
+                            .push((parameter.clone().expect("checked"), value));
+                    }
+                    _ => {}
+                }
+                if matches!(event, Event::Start(_)) {
+                    stack.push(name);
+                }
+            }
+            Event::End(ref e) => {
+                let name = e.local_name().as_ref().to_owned();
+                match name.as_str() {
+                    "Annotation" => in_annotation = false,
+                    "Parameter" => parameter = None,
+                    _ => {}
+                }
+                stack.pop();
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    if ssd.components.is_empty() {
+        return Err(format!("{origin}: the system has no components"));
+    }
+    Ok(ssd)
+}
+
+/// Parameter values of an `.ssv` file (`ssv:ParameterSet`).
+pub(crate) fn parse_ssv(xml: &str, origin: &str) -> Result<Vec<(String, String)>, String> {
+    let wrapped = format!(
+        "<ssd:SystemStructureDescription><ssd:System><ssd:Elements><ssd:Component name=\"ssv\" source=\"-\">{}</ssd:Component></ssd:Elements></ssd:System></ssd:SystemStructureDescription>",
+        xml.trim_start_matches(|c| c != '<')
+            .split_once("?>")
+            .map_or(xml, |(_, rest)| rest)
+    );
+    Ok(parse_ssd(&wrapped, origin)?.components.remove(0).parameters)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::OpenSystem;
+    use std::path::PathBuf;
+
+    const SSD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssc="c" xmlns:ssd="d" xmlns:ssv="v" xmlns:tbi="t" version="1.0" name="s">
+  <ssd:System name="s">
+    <ssd:Elements>
+      <ssd:Component name="a" source="resources/a.fmu">
+        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" name="p"><ssv:Parameters>
+          <ssv:Parameter name="k"><ssv:Real value="2.5"/></ssv:Parameter>
+        </ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>
+      </ssd:Component>
+      <ssd:Component name="b" source="resources/b.fmu"/>
+    </ssd:Elements>
+    <ssd:Connections>
+      <ssd:Connection startElement="a" startConnector="y" endElement="b" endConnector="u"/>
+    </ssd:Connections>
+    <ssd:Annotations><ssc:Annotation type="org.tbi.coupling"><tbi:Coupling step_size="0.01" scheme="jacobi" rtol="1e-9"/></ssc:Annotation></ssd:Annotations>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="2.5"/>
+</ssd:SystemStructureDescription>"#;
+
+    #[test]
+    fn reads_components_connections_parameters_experiment_and_coupling() {
+        let s = parse_ssd(SSD, "t.ssd").unwrap();
+        assert_eq!(s.components.len(), 2);
+        assert_eq!(s.components[0].parameters, vec![("k".into(), "2.5".into())]);
+        assert_eq!(s.connections[0].end_connector, "u");
+        assert_eq!((s.start_time, s.stop_time), (Some(0.0), Some(2.5)));
+        assert_eq!(s.coupling[0], ("step_size".into(), "0.01".into()));
+        let open = OpenSystem {
+            ssd: s,
+            base: PathBuf::new(),
+            _unpacked: None,
+            origin: "t.ssp".into(),
+        };
+        let (cfg, step) = open.coupling().unwrap();
+        assert_eq!(step, Some(0.01));
+        assert_eq!(cfg.scheme.as_str(), "jacobi");
+        assert_eq!(cfg.rtol, 1e-9);
+    }
+
+    #[test]
+    fn malformed_and_duplicate_elements_are_refused_with_the_line() {
+        let e = parse_ssd("<a><b></a>", "x.ssd").unwrap_err();
+        assert!(e.starts_with("x.ssd:1: malformed XML"), "{e}");
+        let twice = SSD.replace("name=\"b\"", "name=\"a\"");
+        let e = parse_ssd(&twice, "x.ssd").unwrap_err();
+        assert!(
+            e.contains("x.ssd:10: component \"a\" is defined twice"),
+            "{e}"
+        );
+    }
+}
