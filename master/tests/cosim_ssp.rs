@@ -191,7 +191,7 @@ fn bad_systems_are_refused_naming_the_file_and_element() {
     let dir = scratch("cosim-bad");
     let ssp = export(&dir);
     // (the FMUs are loaded side by side: a missing first and a missing second component)
-    let cases: [(&str, &str, &str, &str); 7] = [
+    let cases: [(&str, &str, &str, &str); 12] = [
         (
             "missing-fmu",
             "resources/train.fmu",
@@ -234,6 +234,36 @@ fn bad_systems_are_refused_naming_the_file_and_element() {
             r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu"><ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet xmlns:ssv="v" version="1.0" name="p"><ssv:Parameters><ssv:Parameter name="warp"><ssv:Real value="1"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#,
             "has no variable \"warp\"",
         ),
+        (
+            "nan-binding",
+            r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu">"#,
+            r#"<ssd:Component name="train" type="application/x-fmu-sharedlibrary" source="resources/train.fmu"><ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="p"><ssv:Parameters><ssv:Parameter name="speed"><ssv:Real value="NaN"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#,
+            "parameter speed = \"NaN\" is not a finite number",
+        ),
+        (
+            "foreign-namespace",
+            "xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\"",
+            "xmlns:ssd=\"urn:other\"",
+            "not SSP 1.0's",
+        ),
+        (
+            "version-2",
+            "version=\"1.0\" name=\"train-bridge\"",
+            "version=\"2.0\" name=\"train-bridge\"",
+            "only SSP version \"1.0\" is read",
+        ),
+        (
+            "ssp-package",
+            r#"name="train" type="application/x-fmu-sharedlibrary""#,
+            r#"name="train" type="application/x-ssp-package""#,
+            "only FMUs (application/x-fmu-sharedlibrary) are run",
+        ),
+        (
+            "absolute-source",
+            "source=\"resources/train.fmu\"",
+            "source=\"/tmp/train.fmu\"",
+            "lies outside the archive",
+        ),
     ];
     for (label, from, to, needle) in cases {
         let bad = edited(&ssp, &dir.join(format!("{label}.ssp")), |ssd| {
@@ -249,6 +279,49 @@ fn bad_systems_are_refused_naming_the_file_and_element() {
         assert_eq!(out.status.code(), Some(1), "{label}: {err}");
         assert!(
             err.contains(&format!("{label}.ssp")) && err.contains(needle),
+            "{label}: expected {needle:?} in: {err}"
+        );
+        assert!(
+            !dir.join(format!("{label}.csv")).exists(),
+            "{label}: a result was written"
+        );
+    }
+    // an SSD cut in half, and a NaN --set value, even with the times given on the command line
+    let half = edited(&ssp, &dir.join("half.ssp"), |ssd| {
+        ssd[..ssd.find("<ssd:Connections>").expect("connections")].to_owned()
+    });
+    for (label, system, set, needle) in [
+        (
+            "half",
+            &half,
+            "train.speed=20",
+            "the document ends inside <System>",
+        ),
+        (
+            "nan-set",
+            &ssp,
+            "train.speed=nan",
+            "--set train.speed = \"nan\" is not a finite number",
+        ),
+    ] {
+        let out = run(tbi_command()
+            .arg("cosim")
+            .arg(system)
+            .args([
+                "--quiet",
+                "--stop-time",
+                "0.1",
+                "--step-size",
+                "0.01",
+                "--set",
+                set,
+            ])
+            .arg("--output")
+            .arg(dir.join(format!("{label}.csv"))));
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{label}: {err}");
+        assert!(
+            err.contains(needle),
             "{label}: expected {needle:?} in: {err}"
         );
         assert!(

@@ -388,10 +388,14 @@ fn default_output_file_and_standard_output() {
 fn unusable_arguments_are_refused() {
     let fmu = build_fmu(&Variant::new("Args"));
     let dir = fmu.parent().unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    std::fs::write(dir.join("in.csv"), "time,F,Fq\n0,1,2\n1,1,2\n").unwrap();
+    let cases: [(&[&str], &str); 8] = [
         (&["--set", "nope=1"], "Args.fmu: --set nope: the FMU has no variable \"nope\""),
         (&["--set", "k"], "--set k: expected NAME=VALUE"),
-        (&["--set", "k=abc"], "--set k=abc: \"abc\" is not a number"),
+        (&["--set", "k=abc"], "--set k=abc: \"abc\" is not a finite number"),
+        (&["--set", "k=nan"], "--set k=nan: \"nan\" is not a finite number"),
+        (&["--set", "k=1e999"], "--set k=1e999: \"1e999\" is not a finite number"),
+        (&["--input", "in.csv"], "in.csv: column \"Fq\" names no input or tunable parameter of the FMU"),
         (&["--set", "x=1"], "--set x: the variable cannot be set before or during initialisation (causality=\"output\", variability=\"continuous\")"),
         (&["--stop-time", "-1"], "Args.fmu: the stop time -1 is not after the start time 0"),
     ];

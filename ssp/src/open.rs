@@ -38,6 +38,18 @@ pub fn open(path: &Path) -> Result<OpenSystem, String> {
     let text = tbi_modes::input::read_text(&ssd_path, tbi_modes::input::MAX_SCENARIO_BYTES)
         .map_err(|e| format!("{origin}: SystemStructure.ssd: {e}"))?;
     let mut ssd = parse_ssd(&text, &format!("{origin}: SystemStructure.ssd"))?;
+    if unpacked.is_some() {
+        for c in &ssd.components {
+            for source in std::iter::once(&c.source).chain(&c.parameter_files) {
+                if !inside_archive(source) {
+                    return Err(format!(
+                        "{origin}: SystemStructure.ssd: component \"{}\": source \"{source}\" lies outside the archive; an .ssp refers to its own files by relative paths",
+                        c.name
+                    ));
+                }
+            }
+        }
+    }
     for c in &mut ssd.components {
         for f in c.parameter_files.clone() {
             let p = base.join(&f);
@@ -53,6 +65,16 @@ pub fn open(path: &Path) -> Result<OpenSystem, String> {
         _unpacked: unpacked,
         origin,
     })
+}
+
+/// Whether `source` names a file inside the archive: a relative path that never climbs out
+/// (no root, no `..`, no drive prefix).
+fn inside_archive(source: &str) -> bool {
+    use std::path::Component;
+    !source.is_empty()
+        && Path::new(source)
+            .components()
+            .all(|c| matches!(c, Component::Normal(_) | Component::CurDir))
 }
 
 /// The system just exported to `ssp` with description `ssd` (the text the archive holds),
@@ -128,5 +150,18 @@ impl OpenSystem {
         cfg.validate()
             .map_err(|e| format!("{}: coupling annotation: {e}", self.origin))?;
         Ok((cfg, step))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn archive_sources_stay_inside_it() {
+        for ok in ["resources/a.fmu", "a.fmu", "./x/b.ssv"] {
+            assert!(super::inside_archive(ok), "{ok}");
+        }
+        for out in ["/etc/a.fmu", "../a.fmu", "x/../../a.fmu", ""] {
+            assert!(!super::inside_archive(out), "{out}");
+        }
     }
 }

@@ -62,6 +62,50 @@ pub(crate) fn attr(e: &BytesStart<'_>, key: &str) -> Option<String> {
         })
 }
 
+/// The namespace of SSP 1.0 System Structure Descriptions.
+pub const SSD_NAMESPACE: &str = "http://ssp-standard.org/SSP1/SystemStructureDescription";
+/// The namespace of SSP 1.0 parameter values (`.ssv`).
+pub const SSV_NAMESPACE: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterValues";
+/// The one component type the master runs: an FMU (SSP 1.0's default).
+pub const FMU_COMPONENT_TYPE: &str = "application/x-fmu-sharedlibrary";
+
+/// Refuses a root element that is not SSP 1.0's `<local>` in `namespace` with
+/// `version="1.0"`.
+fn check_root(e: &BytesStart<'_>, local: &str, namespace: &str) -> Result<(), String> {
+    let name = e.name().as_ref().to_owned();
+    if e.local_name().as_ref() != local {
+        return Err(format!(
+            "<{name}> is not an SSP 1.0 document (expected <{local}> as its root)"
+        ));
+    }
+    let declaration = match e.name().prefix() {
+        Some(p) => format!("xmlns:{}", p.as_ref()),
+        None => "xmlns".to_owned(),
+    };
+    let ns = e
+        .attributes()
+        .flatten()
+        .find(|a| a.key.as_ref() == declaration)
+        .and_then(|a| {
+            a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
+                .ok()
+                .map(|v| v.into_owned())
+        });
+    if ns.as_deref() != Some(namespace) {
+        return Err(format!(
+            "<{name}> is in namespace {}, not SSP 1.0's \"{namespace}\"",
+            ns.map_or("(none)".to_owned(), |n| format!("\"{n}\""))
+        ));
+    }
+    match attr(e, "version") {
+        Some(v) if v == "1.0" => Ok(()),
+        v => Err(format!(
+            "<{name} version={}>: only SSP version \"1.0\" is read",
+            v.map_or("(missing)".to_owned(), |v| format!("\"{v}\""))
+        )),
+    }
+}
+
 pub(crate) fn line_of(text: &str, pos: usize) -> usize {
     text[..pos.min(text.len())].matches('\n').count() + 1
 }
@@ -73,6 +117,7 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
     let mut stack: Vec<String> = Vec::new();
     let mut in_annotation = false;
     let mut parameter: Option<String> = None;
+    let (mut root_seen, mut seen_system, mut seen_elements) = (false, false, false);
     loop {
         let pos = r.buffer_position() as usize;
         let event = r.read_event().map_err(|e| {
@@ -86,11 +131,23 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
             Event::Start(ref e) | Event::Empty(ref e) => {
                 let name = e.local_name().as_ref().to_owned();
                 let inside = |n: &str| stack.iter().any(|s| s == n);
+                if stack.is_empty() && !root_seen {
+                    check_root(e, "SystemStructureDescription", SSD_NAMESPACE).map_err(at)?;
+                    root_seen = true;
+                }
+                seen_system |= name == "System" && stack.len() == 1;
+                seen_elements |= name == "Elements" && inside("System");
                 match name.as_str() {
                     "SystemStructureDescription" => {
                         ssd.name = attr(e, "name").unwrap_or_default();
                     }
                     "Component" if inside("Elements") => {
+                        if let Some(t) = attr(e, "type").filter(|t| t != FMU_COMPONENT_TYPE) {
+                            return Err(at(format!(
+                                "component \"{}\" has type \"{t}\": only FMUs ({FMU_COMPONENT_TYPE}) are run; nested SSP packages and other component types are not supported",
+                                attr(e, "name").unwrap_or_default()
+                            )));
+                        }
                         let c = Component {
                             name: attr(e, "name")
                                 .ok_or_else(|| at("<Component> has no name".into()))?,
@@ -132,20 +189,7 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
                     "Annotation" => {
                         in_annotation = attr(e, "type").as_deref() == Some(COUPLING_ANNOTATION);
                     }
-                    "Coupling" if in_annotation => {
-                        ssd.coupling = e
-                            .attributes()
-                            .flatten()
-                            .map(|a| {
-                                (
-                                    a.key.local_name().as_ref().to_owned(),
-                                    a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
-                                        .map(|v| v.into_owned())
-                                        .unwrap_or_default(),
-                                )
-                            })
-                            .collect();
-                    }
+                    "Coupling" if in_annotation => ssd.coupling = attributes(e),
                     "Output" if in_annotation => {
                         let get = |k: &str| {
                             attr(e, k).ok_or_else(|| at(format!("<tbi:Output> has no {k}")))
@@ -156,13 +200,13 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
                             connector: get("connector")?,
                         });
                     }
-                    "ParameterBinding" if inside("Component") => {
+                    "ParameterBinding" if inside("Component") && inside("Elements") => {
                         if let Some(src) = attr(e, "source") {
                             let c = ssd.components.last_mut().expect("inside a component");
                             c.parameter_files.push(src);
                         }
                     }
-                    "Parameter" if inside("Component") => {
+                    "Parameter" if inside("Component") && inside("Elements") => {
                         parameter = Some(
                             attr(e, "name").ok_or_else(|| at("<Parameter> has no name".into()))?,
                         );
@@ -189,20 +233,83 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
                 }
                 stack.pop();
             }
-            Event::Eof => break,
+            Event::Eof => {
+                if let Some(open) = stack.last() {
+                    return Err(format!(
+                        "{origin}:{}: the document ends inside <{open}>: it is not a whole SSD",
+                        line_of(xml, xml.len())
+                    ));
+                }
+                break;
+            }
             _ => {}
         }
+    }
+    whole(origin, root_seen, seen_system, seen_elements, &ssd)?;
+    Ok(ssd)
+}
+
+/// Every attribute of `e`, by local name, as written.
+fn attributes(e: &BytesStart<'_>) -> Vec<(String, String)> {
+    e.attributes()
+        .flatten()
+        .map(|a| {
+            (
+                a.key.local_name().as_ref().to_owned(),
+                a.normalized_value(quick_xml::XmlVersion::Implicit1_0)
+                    .map(|v| v.into_owned())
+                    .unwrap_or_default(),
+            )
+        })
+        .collect()
+}
+
+/// Refuses a document without a root, `<System>`, `<Elements>` or components.
+fn whole(origin: &str, root: bool, system: bool, elements: bool, ssd: &Ssd) -> Result<(), String> {
+    if !root {
+        return Err(format!("{origin}: no XML element: it is not an SSD"));
+    }
+    if !system || !elements {
+        return Err(format!(
+            "{origin}: the SSD has no <System>{}",
+            if system { " <Elements>" } else { "" }
+        ));
     }
     if ssd.components.is_empty() {
         return Err(format!("{origin}: the system has no components"));
     }
-    Ok(ssd)
+    Ok(())
 }
 
 /// Parameter values of an `.ssv` file (`ssv:ParameterSet`).
 pub(crate) fn parse_ssv(xml: &str, origin: &str) -> Result<Vec<(String, String)>, String> {
+    let mut r = Reader::from_str(xml);
+    loop {
+        let pos = r.buffer_position() as usize;
+        match r.read_event() {
+            Err(e) => {
+                return Err(format!(
+                    "{origin}:{}: malformed XML: {e}",
+                    line_of(xml, r.error_position() as usize)
+                ))
+            }
+            Ok(Event::Start(ref e) | Event::Empty(ref e)) => {
+                check_root(e, "ParameterSet", SSV_NAMESPACE)
+                    .map_err(|m| format!("{origin}:{}: {m}", line_of(xml, pos)))?;
+                break;
+            }
+            Ok(Event::Eof) => return Err(format!("{origin}: no XML element: it is not an SSV")),
+            Ok(Event::Text(t)) if !t.as_ref().trim().is_empty() => {
+                return Err(format!(
+                    "{origin}:{}: text before any element: it is not an SSV document",
+                    line_of(xml, pos)
+                ))
+            }
+            Ok(_) => {}
+        }
+    }
     let wrapped = format!(
-        "<ssd:SystemStructureDescription><ssd:System><ssd:Elements><ssd:Component name=\"ssv\" source=\"-\">{}</ssd:Component></ssd:Elements></ssd:System></ssd:SystemStructureDescription>",
+        "<ssd:SystemStructureDescription xmlns:ssd=\"{SSD_NAMESPACE}\" version=\"1.0\"><ssd:System><ssd:Elements><ssd:Component name=\"ssv\" source=\"-\">{}</ssd:Component></ssd:Elements></ssd:System></ssd:SystemStructureDescription>",
         xml.trim_start_matches(|c| c != '<')
             .split_once("?>")
             .map_or(xml, |(_, rest)| rest)
@@ -217,7 +324,7 @@ mod tests {
     use std::path::PathBuf;
 
     const SSD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
-<ssd:SystemStructureDescription xmlns:ssc="c" xmlns:ssd="d" xmlns:ssv="v" xmlns:tbi="t" version="1.0" name="s">
+<ssd:SystemStructureDescription xmlns:ssc="c" xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" xmlns:ssv="v" xmlns:tbi="t" version="1.0" name="s">
   <ssd:System name="s">
     <ssd:Elements>
       <ssd:Component name="a" source="resources/a.fmu">
@@ -256,9 +363,65 @@ mod tests {
     }
 
     #[test]
+    fn only_whole_ssp_1_0_documents_are_read() {
+        let refused = |text: &str, needle: &str| {
+            let e = parse_ssd(text, "x.ssd").unwrap_err();
+            assert!(
+                e.starts_with("x.ssd") && e.contains(needle),
+                "{needle}: {e}"
+            );
+        };
+        refused(
+            &SSD[..SSD.find("<ssd:Connections>").unwrap()],
+            "the document ends inside <System>",
+        );
+        refused(&SSD[..SSD.len() / 2], "malformed XML");
+        refused("plain text", "no XML element");
+        refused(
+            &SSD.replace("<ssd:Elements>", "<ssd:Items>")
+                .replace("</ssd:Elements>", "</ssd:Items>"),
+            "no <System> <Elements>",
+        );
+        refused(
+            &SSD.replace(SSD_NAMESPACE, "urn:x"),
+            "namespace \"urn:x\", not SSP 1.0's",
+        );
+        refused(
+            &SSD.replace("version=\"1.0\" name=\"s\"", "version=\"2.0\" name=\"s\""),
+            "only SSP version \"1.0\"",
+        );
+        refused(
+            &SSD.replace(
+                "name=\"b\"",
+                "name=\"b\" type=\"application/x-ssp-package\"",
+            ),
+            "x.ssd:10: component \"b\" has type \"application/x-ssp-package\"",
+        );
+        let ssv = format!("<ssv:ParameterSet xmlns:ssv=\"{SSV_NAMESPACE}\" version=\"1.0\" name=\"p\"><ssv:Parameters><ssv:Parameter name=\"k\"><ssv:Real value=\"3\"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet>");
+        assert_eq!(
+            parse_ssv(&ssv, "p.ssv").unwrap(),
+            vec![("k".into(), "3".into())]
+        );
+        for (text, needle) in [
+            ("myhost\n", "p.ssv:1: text before any element"),
+            ("", "p.ssv: no XML element"),
+            ("<a/>", "p.ssv:1: <a> is not an SSP 1.0 document"),
+        ] {
+            let e = parse_ssv(text, "p.ssv").unwrap_err();
+            assert!(e.contains(needle), "{needle}: {e}");
+        }
+        let e = parse_ssv(&ssv.replace(SSV_NAMESPACE, "v"), "p.ssv").unwrap_err();
+        assert!(e.contains("namespace \"v\""), "{e}");
+    }
+
+    #[test]
     fn malformed_and_duplicate_elements_are_refused_with_the_line() {
-        let e = parse_ssd("<a><b></a>", "x.ssd").unwrap_err();
-        assert!(e.starts_with("x.ssd:1: malformed XML"), "{e}");
+        let e = parse_ssd(
+            &SSD.replace("</ssd:Connections>", "</ssd:Connection>"),
+            "x.ssd",
+        )
+        .unwrap_err();
+        assert!(e.starts_with("x.ssd:14: malformed XML"), "{e}");
         let twice = SSD.replace("name=\"b\"", "name=\"a\"");
         let e = parse_ssd(&twice, "x.ssd").unwrap_err();
         assert!(

@@ -269,7 +269,8 @@ fn resolve_connections(
 
 /// Applies the parameter bindings of the SSD (and its `.ssv` files), then the `--set`
 /// values, each checked against the variable's causality and type; a value that is not a
-/// finite number for a Real is refused naming the binding or option.
+/// finite number for a Real, or lies outside its declared `min`/`max`, is refused naming
+/// the binding or option.
 fn apply_values(
     open: &OpenSystem,
     sets: &[(String, String, String)],
@@ -322,11 +323,21 @@ fn apply_values(
         let text = text.trim();
         let refused = |what: &str| format!("{at} = \"{text}\" is not {what}");
         let inst = &mut instances[i];
-        match var.kind {
-            VariableKind::Real(_) => {
+        match &var.kind {
+            VariableKind::Real(r) => {
                 let v: f64 = (text.parse().ok())
                     .filter(|v: &f64| v.is_finite())
                     .ok_or_else(|| refused("a finite number"))?;
+                let declared =
+                    r.declared_type
+                        .as_deref()
+                        .and_then(|t| match &md.type_definition(t)?.kind {
+                            model_description::SimpleTypeKind::Real(a) => Some(a),
+                            _ => None,
+                        });
+                let min = r.attributes.min.or(declared.and_then(|a| a.min));
+                let max = r.attributes.max.or(declared.and_then(|a| a.max));
+                within(v, min, max).map_err(|bound| refused(&bound))?;
                 inst.set_real(&[vr], &[v]).map(drop)
             }
             VariableKind::Integer(_) | VariableKind::Enumeration(_) => {
@@ -346,6 +357,15 @@ fn apply_values(
         .map_err(|e| format!("{at}: {e}"))?;
     }
     Ok(())
+}
+
+/// `Ok` when `v` lies within the variable's declared `min` and `max`, else what it should be.
+fn within(v: f64, min: Option<f64>, max: Option<f64>) -> Result<(), String> {
+    match (min, max) {
+        (Some(lo), _) if v < lo => Err(format!("at least the variable's min = {lo}")),
+        (_, Some(hi)) if v > hi => Err(format!("at most the variable's max = {hi}")),
+        _ => Ok(()),
+    }
 }
 
 /// The annotation's system outputs ([`Ssd::recorded`]) as outputs to record.
@@ -379,4 +399,21 @@ fn recorded_outputs(
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn values_outside_min_and_max_are_refused() {
+        assert!(super::within(0.5, Some(0.0), Some(1.0)).is_ok());
+        assert!(super::within(0.5, None, None).is_ok());
+        assert_eq!(
+            super::within(-1.0, Some(0.0), None).unwrap_err(),
+            "at least the variable's min = 0"
+        );
+        assert_eq!(
+            super::within(2.0, None, Some(1.0)).unwrap_err(),
+            "at most the variable's max = 1"
+        );
+    }
 }

@@ -180,6 +180,28 @@ impl<'a> Inputs<'a> {
                 events,
             });
         };
+        // a column that names nothing the run can set is a mistake, not a signal to drop
+        let settable = |v: &&model_description::ScalarVariable| {
+            v.causality == Causality::Input || v.variability == Variability::Tunable
+        };
+        if let Some(name) = table.names.iter().find(|n| {
+            !md.model_variables
+                .iter()
+                .filter(settable)
+                .any(|v| &v.name == *n)
+        }) {
+            return Err(SimulateError::Invalid(format!(
+                "{}: column \"{name}\" names no input or tunable parameter of the FMU{}",
+                table.origin,
+                crate::names::did_you_mean(
+                    name,
+                    md.model_variables
+                        .iter()
+                        .filter(settable)
+                        .map(|v| v.name.as_str())
+                )
+            )));
+        }
         for v in &md.model_variables {
             if v.causality != Causality::Input && v.variability != Variability::Tunable {
                 continue;

@@ -46,7 +46,9 @@ pub(super) fn apply_start_values(
         let vr = [v.value_reference];
         match &v.kind {
             VariableKind::Real(_) => {
-                let x: f64 = text.parse().map_err(|_| bad("a number"))?;
+                let x: f64 = (text.parse().ok())
+                    .filter(|x: &f64| x.is_finite())
+                    .ok_or_else(|| bad("a finite number"))?;
                 instance.set_real(&vr, &[x])?;
             }
             VariableKind::Integer(_) | VariableKind::Enumeration(_) => {
