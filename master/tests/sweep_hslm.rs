@@ -525,7 +525,8 @@ fn hslm_a1_equals_the_exact_modal_series_over_its_axles() {
 }
 
 /// `train = { kind = "moving_force", file = "axles.csv" }`: a user train as a CSV of axles
-/// gives the run of the same axles typed into the scenario; an empty or malformed file is
+/// gives the run of the same axles typed into the scenario (also when a spreadsheet put a
+/// byte-order mark before the header); an empty or malformed file, or a negative load, is
 /// refused with its line.
 #[test]
 fn a_train_from_an_axles_csv() {
@@ -536,7 +537,7 @@ fn a_train_from_an_axles_csv() {
         csv.push_str(&format!("{o},{p}\n"));
     }
     std::fs::create_dir_all(dir.join("file")).unwrap();
-    std::fs::write(dir.join("file/axles.csv"), &csv).unwrap();
+    std::fs::write(dir.join("file/axles.csv"), format!("\u{feff}{csv}")).unwrap();
     let from_file = SPAN.replace(
         "kind = \"hslm_a\"\nname = \"A1\"",
         "kind = \"moving_force\"\nfile = \"axles.csv\"",
@@ -573,6 +574,10 @@ fn a_train_from_an_axles_csv() {
         (
             "offset_m,load_n\n",
             "axles.csv:1: no axles after the header",
+        ),
+        (
+            "offset_m,load_n\n0,170000\n3,-170000\n",
+            "axles.csv:3: load_n = -170000 is negative",
         ),
     ] {
         std::fs::write(dir.join("file/axles.csv"), content).unwrap();

@@ -24,7 +24,22 @@ pub enum InputError {
     File { path: PathBuf, reason: String },
 }
 
+/// Most characters of a value a message repeats.
+pub const MAX_ECHOED_CHARS: usize = 120;
+
+/// `value`, or its first [`MAX_ECHOED_CHARS`] characters and how long it was: a message
+/// never repeats a value of megabytes.
+fn shortened(value: String) -> String {
+    let n = value.chars().count();
+    if n <= MAX_ECHOED_CHARS {
+        return value;
+    }
+    let head: String = value.chars().take(MAX_ECHOED_CHARS).collect();
+    format!("{head}… ({n} characters)")
+}
+
 impl InputError {
+    /// A field's value is not allowed; a long value is shortened in the message.
     pub fn field(
         file: impl Into<String>,
         field: impl Into<String>,
@@ -34,7 +49,7 @@ impl InputError {
         InputError::Field {
             file: file.into(),
             field: field.into(),
-            value: value.to_string(),
+            value: shortened(value.to_string()),
             reason: reason.into(),
         }
     }
@@ -50,5 +65,23 @@ impl InputError {
             path: path.into(),
             reason: reason.into(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::InputError;
+
+    #[test]
+    fn a_long_value_is_shortened_in_the_message() {
+        let long = "x".repeat(10 << 20);
+        let e = InputError::field("s.toml", "name", &long, "too long").to_string();
+        assert!(e.len() < 300, "{} bytes", e.len());
+        assert!(
+            e.contains(&format!("{}… ({} characters)", "x".repeat(120), 10 << 20)),
+            "{e}"
+        );
+        let short = InputError::field("s.toml", "name", "\"a b\"", "bad").to_string();
+        assert_eq!(short, "s.toml: field `name` = \"a b\": bad");
     }
 }

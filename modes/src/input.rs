@@ -10,8 +10,8 @@ pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
 /// Cap on a data file (modes file, track record), bytes (512 MiB).
 pub const MAX_DATA_FILE_BYTES: u64 = 512 << 20;
 
-/// The file's text, at most `limit` bytes of UTF-8. Errors say which limit was passed or
-/// at which byte the text stops being UTF-8.
+/// The file's text, at most `limit` bytes of UTF-8, without a leading byte-order mark.
+/// Errors say which limit was passed or at which byte the text stops being UTF-8.
 pub fn read_text(path: &Path, limit: u64) -> io::Result<String> {
     // a FIFO would block the open until a writer came, a device would stream: only a
     // regular file (a link to one included) is read
@@ -32,10 +32,20 @@ pub fn read_text(path: &Path, limit: u64) -> io::Result<String> {
             limit >> 20
         )));
     }
+    // a UTF-8 byte-order mark (spreadsheet exports) is not part of the text
+    let bom = if bytes.starts_with(b"\xEF\xBB\xBF") {
+        3
+    } else {
+        0
+    };
+    bytes.drain(..bom);
     String::from_utf8(bytes).map_err(|e| {
         io::Error::new(
             io::ErrorKind::InvalidData,
-            format!("not valid UTF-8 at byte {}", e.utf8_error().valid_up_to()),
+            format!(
+                "not valid UTF-8 at byte {}",
+                bom + e.utf8_error().valid_up_to()
+            ),
         )
     })
 }
@@ -82,6 +92,14 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("at byte 2"));
+        // a byte-order mark is dropped; bytes are still counted from the file's start
+        std::fs::write(&p, b"\xEF\xBB\xBFoffset_m,load_n\n").unwrap();
+        assert_eq!(read_text(&p, 100).unwrap(), "offset_m,load_n\n");
+        std::fs::write(&p, b"\xEF\xBB\xBFab\xff").unwrap();
+        assert!(read_text(&p, 100)
+            .unwrap_err()
+            .to_string()
+            .contains("at byte 5"));
         #[cfg(unix)]
         {
             let e = read_text(Path::new("/dev/zero"), 1 << 20)

@@ -10,6 +10,10 @@ use crate::WindError;
 /// The expected header.
 pub const HEADER: &str = "time_s,x_m,u_m_s,w_m_s";
 
+/// The largest turbulence a record may give, |u| and |w|, m/s: beyond any measured gust
+/// (a value past it is a unit or column mistake, not wind).
+pub const MAX_TURBULENCE_M_S: f64 = 100.0;
+
 /// The rows of one time: (time, line of its first row, points, u, w).
 type Block = (f64, usize, Vec<f64>, Vec<f64>, Vec<f64>);
 
@@ -52,6 +56,16 @@ pub fn parse(text: &str, file: &str, mean_speed_m_s: f64) -> Result<WindField, W
                 .ok_or_else(|| at(i, format!("{name} `{s}` is not a finite number")))?;
         }
         let [t, x, u, w] = v;
+        for (name, value, written) in [("u_m_s", u, fields[2]), ("w_m_s", w, fields[3])] {
+            if value.abs() > MAX_TURBULENCE_M_S {
+                return Err(at(
+                    i,
+                    format!(
+                        "{name} = {written} is beyond ±{MAX_TURBULENCE_M_S} m/s: turbulence about the mean, in m/s"
+                    ),
+                ));
+            }
+        }
         match blocks.last_mut() {
             Some(b) if b.0 == t => {
                 if x <= *b.2.last().expect("a point") {
@@ -191,6 +205,14 @@ mod tests {
             (
                 "time_s,x_m,u_m_s,w_m_s\n0,5,1,0\n0,5,1,0\n",
                 "w.csv:3: x_m = 5 does not ascend",
+            ),
+            (
+                "time_s,x_m,u_m_s,w_m_s\n0,0,1,0\n0,5,1e300,0\n",
+                "w.csv:3: u_m_s = 1e300 is beyond ±100 m/s",
+            ),
+            (
+                "time_s,x_m,u_m_s,w_m_s\n0,0,1,-101\n",
+                "w.csv:2: w_m_s = -101 is beyond ±100 m/s",
             ),
         ];
         for (text, needle) in cases {

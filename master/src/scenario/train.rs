@@ -141,6 +141,12 @@ impl Check<'_> {
             if offset_m < 0.0 {
                 return Err(at(i + 1, format!("offset_m = {offset_m} is negative")));
             }
+            if load_n < 0.0 {
+                return Err(at(
+                    i + 1,
+                    format!("load_n = {load_n} is negative: an axle load is downward, N ≥ 0"),
+                ));
+            }
             axles.push(MovingForceAxle { offset_m, load_n });
             if axles.len() > limits::AXLES {
                 return Err(at(i + 1, format!("more than {} axles", limits::AXLES)));
@@ -218,7 +224,7 @@ impl Check<'_> {
                 t,
                 |i, a: &MovingForceAxle| {
                     self.non_negative(&field(i, "offset_m"), a.offset_m)?;
-                    self.finite(&field(i, "load_n"), a.load_n)?;
+                    self.non_negative(&field(i, "load_n"), a.load_n)?;
                     Ok(())
                 },
             )?)),
