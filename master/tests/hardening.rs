@@ -310,6 +310,24 @@ fn an_output_folder_is_used_by_one_run_at_a_time() {
     assert!(r.status.success(), "{}", text(&r.stderr));
     assert!(out.join("summary.json").is_file());
     c.assert_clean();
+    // a sweep owns its whole folder: a second sweep into it is refused before any case runs
+    let sweep = c.work().join("sweep");
+    std::fs::create_dir_all(&sweep).unwrap();
+    std::fs::write(sweep.join(".tbi-lock"), format!("{}\n", std::process::id())).unwrap();
+    let args = [
+        "sweep",
+        s.to_str().unwrap(),
+        "--speeds",
+        "40,60",
+        "--out",
+        "sweep",
+    ];
+    let r = c.tbi(&args);
+    let err = text(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(err.contains("in use by another tbi run"), "{err}");
+    let entries: Vec<_> = std::fs::read_dir(&sweep).unwrap().flatten().collect();
+    assert_eq!(entries.len(), 1, "only the lock: {entries:?}");
 }
 
 #[test]

@@ -20,6 +20,7 @@ The Rust code runs with the GIL released: runs in several threads proceed in par
 """
 
 import json
+import math
 import os
 import shutil
 import tempfile
@@ -45,6 +46,23 @@ __all__ = [
 _native.set_library_dirs([str(Path(__file__).resolve().parent / "_lib")])
 
 
+def _non_finite(value, key=""):
+    """The first (dotted key, value) of a scenario table holding NaN or an infinity, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return key, value
+    if isinstance(value, dict):
+        items = ((f"{key}.{k}" if key else str(k), v) for k, v in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = ((f"{key}[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for k, v in items:
+        found = _non_finite(v, k)
+        if found is not None:
+            return found
+    return None
+
+
 def _source(scenario, base_dir=None):
     """The keyword arguments naming a scenario for the native functions.
 
@@ -56,6 +74,10 @@ def _source(scenario, base_dir=None):
         return {}
     base_dir = os.fspath(base_dir) if base_dir is not None else os.getcwd()
     if isinstance(scenario, dict):
+        where = _non_finite(scenario)
+        if where is not None:
+            key, value = where
+            raise ScenarioError(f"<dict>: {key} = {value!r} is not a finite number")
         try:
             text = _native.toml_from_json(json.dumps(scenario, allow_nan=False))
         except (TypeError, ValueError) as e:
@@ -130,9 +152,21 @@ def _read(out):
     return _read_summary(out), pd.read_csv(Path(out) / "history.csv")
 
 
+def _temporary_folder(prefix):
+    """A new folder ``<prefix>-<pid>-…`` in the temporary directory, after removing those
+    of the same prefix whose process is gone (a run killed before it could clean up)."""
+    root = Path(tempfile.gettempdir())
+    if Path("/proc").is_dir():
+        for folder in root.glob(f"{prefix}-*-*"):
+            pid = folder.name[len(prefix) + 1 :].split("-", 1)[0]
+            if pid.isdigit() and int(pid) != os.getpid() and not Path(f"/proc/{pid}").exists():
+                shutil.rmtree(folder, ignore_errors=True)
+    return tempfile.mkdtemp(prefix=f"{prefix}-{os.getpid()}-")
+
+
 def _in_temporary_folder(src, solver, read):
     """Run into a temporary folder, return `read(folder)`, and remove the folder."""
-    tmp = tempfile.mkdtemp(prefix="tbi-run-")
+    tmp = _temporary_folder("tbi-run")
     try:
         folder = os.path.join(tmp, "run")
         _native.run(folder, solver=solver, **src)

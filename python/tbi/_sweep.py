@@ -6,7 +6,6 @@ import itertools
 import os
 import re
 import shutil
-import tempfile
 import uuid
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -106,14 +105,14 @@ def _design_check(base, trains, speeds, out, solver, options):
     """``tbi.sweep(trains=…)``: the design check, its ``envelope.csv`` as a DataFrame."""
     import pandas as pd
 
-    from . import ScenarioError, _native, _source
+    from . import ScenarioError, _native, _source, _temporary_folder
 
     if isinstance(trains, str):
         trains = [trains]
     if isinstance(speeds, str):
         speeds = [speeds]
     speeds = [str(v) for v in (speeds or [])]
-    work = Path(tempfile.mkdtemp(prefix="tbi-check-")) if out is None else Path(out)
+    work = Path(_temporary_folder("tbi-check")) if out is None else Path(out)
     try:
         src = _source(base)
         path = src.get("path")

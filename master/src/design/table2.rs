@@ -97,7 +97,8 @@ pub fn main(
         s.set_speed_kmh(v).map_err(|e| format!("--speeds: {e}"))?;
         cases.push((v, s));
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    // the sweep owns its folder: a second sweep into it is refused before any case runs
+    let _claim = crate::output::outdir::OutputDir::claim(&args.out)?;
     let limits = if args.allow_large {
         crate::model::Limits::none()
     } else {
@@ -118,8 +119,8 @@ pub fn main(
         summaries.push(r?);
     }
     let (md, csv) = tables(speeds, &summaries);
-    std::fs::write(args.out.join("table.md"), &md)?;
-    std::fs::write(args.out.join("table.csv"), &csv)?;
+    crate::output::outdir::write_atomically(&args.out.join("table.md"), md.as_bytes())?;
+    crate::output::outdir::write_atomically(&args.out.join("table.csv"), csv.as_bytes())?;
     crate::say!("{md}");
     eprintln!(
         "tbi: table.md, table.csv and the runs in {}",

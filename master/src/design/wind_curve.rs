@@ -52,7 +52,8 @@ pub fn main(
             cases.push((v, u, s));
         }
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    // the sweep owns its folder: a second sweep into it is refused before any case runs
+    let _claim = crate::output::outdir::OutputDir::claim(&args.out)?;
     let limits = if args.allow_large {
         crate::model::Limits::none()
     } else {

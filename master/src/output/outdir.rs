@@ -143,7 +143,7 @@ impl Write for NamedFile {
 }
 
 /// A temporary folder under `$TMPDIR` (`<prefix>-<pid>-<n>`), removed with its content when
-/// this value drops.
+/// this value drops; those of the same prefix left by a killed process are removed first.
 #[derive(Debug)]
 pub struct TempDir {
     path: PathBuf,
@@ -152,6 +152,7 @@ pub struct TempDir {
 impl TempDir {
     pub fn new(prefix: &str) -> Result<TempDir, String> {
         static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        fmi_import::archive::UnpackedDir::remove_stale(prefix);
         let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let path = std::env::temp_dir().join(format!("{prefix}-{}-{n}", std::process::id()));
         std::fs::create_dir_all(&path).map_err(|e| format!("{}: {e}", path.display()))?;

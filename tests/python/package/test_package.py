@@ -138,6 +138,30 @@ def test_bad_scenarios_raise_scenario_error_with_the_cli_message(tmp_path):
         tbi.run(base, solver="magic")
     with pytest.raises(TypeError):
         tbi.run(42)
+    # NaN or an infinity is named by its key, as a scenario file's would be
+    base["run"]["speed_kmh"] = float("nan")
+    with pytest.raises(tbi.ScenarioError, match=r"<dict>: run.speed_kmh = nan is not a finite number"):
+        tbi.run(base)
+    base["run"]["speed_kmh"] = 100.0
+    base["train"]["axles"] = [{"offset_m": 0.0, "load_n": float("inf")}]
+    with pytest.raises(tbi.ScenarioError, match=r"train.axles\[0\].load_n = inf"):
+        tbi.run(base)
+    with pytest.raises(tbi.ScenarioError, match="run.speed_kmh"):
+        tbi.sweep(DATA / "yang-yau.toml", vary={"run.speed_kmh": [80.0, float("nan")]})
+    # a long value is not echoed in full
+    with pytest.raises(tbi.ScenarioError) as e:
+        tbi.run({**tbi.as_dict(DATA / "yang-yau.toml")[0], "name": "x" * (10 << 20)})
+    assert len(str(e.value)) < 1000 and "characters)" in str(e.value)
+
+
+def test_folders_of_killed_runs_are_removed():
+    import tempfile
+
+    stale = Path(tempfile.gettempdir()) / "tbi-run-4194399-abc"
+    (stale / "run").mkdir(parents=True, exist_ok=True)
+    tbi.run(DATA / "yang-yau.toml", solver="monolithic")
+    assert not stale.exists()
+    assert not list(Path(tempfile.gettempdir()).glob(f"tbi-run-{os.getpid()}-*"))
 
 
 def test_a_failing_case_is_reported_in_its_row():
