@@ -90,6 +90,20 @@ impl UnpackedDir {
         &self.path
     }
 
+    /// Remove the directories `{prefix}-{pid}-…` of the process `pid` (a worker that was
+    /// ended or died) in the temporary directory.
+    pub fn remove_of_process(prefix: &str, pid: u32) {
+        let Ok(entries) = fs::read_dir(std::env::temp_dir()) else {
+            return;
+        };
+        let head = format!("{prefix}-{pid}-");
+        for entry in entries.flatten() {
+            if entry.file_name().to_string_lossy().starts_with(&head) {
+                let _ = fs::remove_dir_all(entry.path());
+            }
+        }
+    }
+
     /// Remove the directories `{prefix}-{pid}-…` in the temporary directory whose process
     /// no longer exists (left by a run that was killed). Linux only; elsewhere nothing.
     pub fn remove_stale(prefix: &str) {

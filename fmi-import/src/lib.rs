@@ -51,6 +51,7 @@ pub mod library;
 pub mod logger;
 pub mod names;
 mod participant;
+pub mod remote;
 pub mod simulate;
 
 pub use archive::UnpackLimits;
@@ -60,4 +61,4 @@ pub use fmi2::uri::file_uri;
 pub use instance::{Fmu, FmuState, Instance, InstantiateOptions, StatusKind, StepResult, PLATFORM};
 pub use library::{Library, LoadError};
 pub use logger::LogMessage;
-pub use participant::FmuParticipant;
+pub use participant::{FmiCalls, FmuParticipant, LocalInstance};

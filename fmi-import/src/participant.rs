@@ -2,16 +2,136 @@
 //! Real values through `fmi2GetReal`/`fmi2SetReal`, Integer and Boolean ones through their
 //! calls, `fmi2DoStep` as the step (a discard reported as [`StepStatus::Discard`]), and one
 //! rollback slot held with `fmi2GetFMUstate`/`fmi2SetFMUstate`.
+//!
+//! The calls go through [`FmiCalls`]: to an [`Instance`] in this process ([`LocalInstance`])
+//! or to one in a worker process ([`crate::remote::RemoteInstance`]), the same for the
+//! coupling.
 
-use crate::{Fmu, FmuState, Instance, StepResult};
-use model_description::VariableKind;
+use crate::{FmuState, Instance, StepResult};
+use model_description::{ModelDescription, VariableKind};
 use std::collections::HashMap;
 use tbi_coupling::{CouplingError, Discrete, Participant, StepStatus};
 
-/// An FMU instance as a coupling participant, with one rollback slot.
-pub struct FmuParticipant {
+/// The FMI calls a master makes on one Co-Simulation instance, with one rollback slot;
+/// errors are messages that name the instance.
+pub trait FmiCalls {
+    /// The instance name.
+    fn name(&self) -> &str;
+    /// `fmi2SetupExperiment`.
+    fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), String>;
+    /// `fmi2EnterInitializationMode`.
+    fn enter_initialization_mode(&mut self) -> Result<(), String>;
+    /// `fmi2ExitInitializationMode`.
+    fn exit_initialization_mode(&mut self) -> Result<(), String>;
+    /// `fmi2SetReal`.
+    fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String>;
+    /// `fmi2GetReal`; a value that is not finite is an error naming the variable.
+    fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), String>;
+    /// `fmi2SetInteger`.
+    fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<(), String>;
+    /// `fmi2GetInteger`.
+    fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<(), String>;
+    /// `fmi2SetBoolean`.
+    fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<(), String>;
+    /// `fmi2GetBoolean`.
+    fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<(), String>;
+    /// `fmi2SetString`.
+    fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<(), String>;
+    /// `fmi2DoStep(t, h)`; `true` when the FMU discarded the step.
+    fn do_step(&mut self, t: f64, h: f64) -> Result<bool, String>;
+    /// `fmi2GetFMUstate` into the one slot.
+    fn save_state(&mut self) -> Result<(), String>;
+    /// `fmi2SetFMUstate` from the slot.
+    fn restore_state(&mut self) -> Result<(), String>;
+}
+
+/// An instance in this process, with its rollback slot.
+pub struct LocalInstance {
     pub inst: Instance,
     saved: Option<FmuState>,
+}
+
+impl LocalInstance {
+    pub fn new(inst: Instance) -> Self {
+        LocalInstance { inst, saved: None }
+    }
+}
+
+fn text(e: crate::FmiError) -> String {
+    e.to_string()
+}
+
+impl FmiCalls for LocalInstance {
+    fn name(&self) -> &str {
+        self.inst.name()
+    }
+    fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), String> {
+        self.inst
+            .setup_experiment(tolerance, start, stop)
+            .map(drop)
+            .map_err(text)
+    }
+    fn enter_initialization_mode(&mut self) -> Result<(), String> {
+        self.inst
+            .enter_initialization_mode()
+            .map(drop)
+            .map_err(text)
+    }
+    fn exit_initialization_mode(&mut self) -> Result<(), String> {
+        self.inst.exit_initialization_mode().map(drop).map_err(text)
+    }
+    fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        self.inst.set_real(vrs, values).map(drop).map_err(text)
+    }
+    fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), String> {
+        self.inst.get_real(vrs, values).map(drop).map_err(text)
+    }
+    fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<(), String> {
+        self.inst.set_integer(vrs, values).map(drop).map_err(text)
+    }
+    fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<(), String> {
+        self.inst.get_integer(vrs, values).map(drop).map_err(text)
+    }
+    fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<(), String> {
+        self.inst.set_boolean(vrs, values).map(drop).map_err(text)
+    }
+    fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<(), String> {
+        self.inst.get_boolean(vrs, values).map(drop).map_err(text)
+    }
+    fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<(), String> {
+        self.inst.set_string(vrs, values).map(drop).map_err(text)
+    }
+    fn do_step(&mut self, t: f64, h: f64) -> Result<bool, String> {
+        let r = self.inst.do_step(t, h, false).map_err(text)?;
+        Ok(matches!(r, StepResult::Discard))
+    }
+    fn save_state(&mut self) -> Result<(), String> {
+        let s = self.inst.get_fmu_state(self.saved.take()).map_err(text)?;
+        self.saved = Some(s);
+        Ok(())
+    }
+    fn restore_state(&mut self) -> Result<(), String> {
+        let s = self
+            .saved
+            .as_ref()
+            .ok_or_else(|| format!("{}: no saved state", self.inst.name()))?;
+        self.inst.set_fmu_state(s).map(drop).map_err(text)
+    }
+}
+
+/// An FMU instance as a coupling participant.
+pub struct FmuParticipant {
+    pub calls: Box<dyn FmiCalls>,
     /// Declared unit of each Real variable, by value reference.
     units: HashMap<u32, String>,
     /// Name of each Real variable, by value reference (for messages).
@@ -19,11 +139,10 @@ pub struct FmuParticipant {
 }
 
 impl FmuParticipant {
-    /// Wrap an instance of `fmu`; the units of its Real variables come from its model
-    /// description.
-    pub fn new(fmu: &Fmu, inst: Instance) -> Self {
-        let units = fmu
-            .model_description()
+    /// Wrap the calls to an instance of the FMU described by `md` (the units of its Real
+    /// variables come from there).
+    pub fn new(md: &ModelDescription, calls: Box<dyn FmiCalls>) -> Self {
+        let units = md
             .model_variables
             .iter()
             .filter_map(|v| match &v.kind {
@@ -31,57 +150,45 @@ impl FmuParticipant {
                 _ => None,
             })
             .collect();
-        let names = fmu
-            .model_description()
+        let names = md
             .model_variables
             .iter()
             .filter(|v| matches!(v.kind, VariableKind::Real(_)))
             .map(|v| (v.value_reference, v.name.clone()))
             .collect();
         FmuParticipant {
-            inst,
-            saved: None,
+            calls,
             units,
             names,
         }
     }
 }
 
-fn cerr(e: impl std::fmt::Display) -> CouplingError {
-    CouplingError::new(e.to_string())
-}
-
 impl Participant for FmuParticipant {
     fn name(&self) -> &str {
-        self.inst.name()
+        self.calls.name()
     }
     fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), CouplingError> {
-        self.inst.set_real(vrs, values).map(|_| ()).map_err(cerr)
+        self.calls.set_real(vrs, values).map_err(CouplingError::new)
     }
     fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CouplingError> {
-        self.inst.get_real(vrs, values).map(|_| ()).map_err(cerr)
+        self.calls.get_real(vrs, values).map_err(CouplingError::new)
     }
     /// The importer's `get_real` refuses a value that is not finite, naming the variable.
     fn get_real_refuses_non_finite(&self) -> bool {
         true
     }
     fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError> {
-        match self.inst.do_step(t, h, false).map_err(cerr)? {
-            StepResult::Discard => Ok(StepStatus::Discard),
-            _ => Ok(StepStatus::Ok),
+        match self.calls.do_step(t, h).map_err(CouplingError::new)? {
+            true => Ok(StepStatus::Discard),
+            false => Ok(StepStatus::Ok),
         }
     }
     fn save_state(&mut self) -> Result<(), CouplingError> {
-        let s = self.inst.get_fmu_state(self.saved.take()).map_err(cerr)?;
-        self.saved = Some(s);
-        Ok(())
+        self.calls.save_state().map_err(CouplingError::new)
     }
     fn restore_state(&mut self) -> Result<(), CouplingError> {
-        let s = self
-            .saved
-            .as_ref()
-            .ok_or_else(|| CouplingError::new(format!("{}: no saved state", self.inst.name())))?;
-        self.inst.set_fmu_state(s).map(|_| ()).map_err(cerr)
+        self.calls.restore_state().map_err(CouplingError::new)
     }
     fn unit(&self, vr: u32) -> Option<&str> {
         self.units.get(&vr).map(String::as_str)
@@ -90,10 +197,9 @@ impl Participant for FmuParticipant {
         self.names.get(&vr).cloned()
     }
     fn exit_initialization(&mut self) -> Result<(), CouplingError> {
-        self.inst
+        self.calls
             .exit_initialization_mode()
-            .map(drop)
-            .map_err(|e| CouplingError::new(e.to_string()))
+            .map_err(CouplingError::new)
     }
     fn get_discrete(
         &mut self,
@@ -101,10 +207,18 @@ impl Participant for FmuParticipant {
         vrs: &[u32],
         values: &mut [i32],
     ) -> Result<(), CouplingError> {
-        for (&vr, v) in vrs.iter().zip(values) {
-            *v = get_discrete(&mut self.inst, kind, vr).map_err(CouplingError::new)?;
+        match kind {
+            Discrete::Integer => self.calls.get_integer(vrs, values),
+            Discrete::Boolean => {
+                let mut b = vec![false; vrs.len()];
+                self.calls.get_boolean(vrs, &mut b).map(|()| {
+                    for (v, b) in values.iter_mut().zip(b) {
+                        *v = i32::from(b);
+                    }
+                })
+            }
         }
-        Ok(())
+        .map_err(CouplingError::new)
     }
     fn set_discrete(
         &mut self,
@@ -112,35 +226,13 @@ impl Participant for FmuParticipant {
         vrs: &[u32],
         values: &[i32],
     ) -> Result<(), CouplingError> {
-        for (&vr, &v) in vrs.iter().zip(values) {
-            set_discrete(&mut self.inst, kind, vr, v).map_err(CouplingError::new)?;
+        match kind {
+            Discrete::Integer => self.calls.set_integer(vrs, values),
+            Discrete::Boolean => {
+                let b: Vec<bool> = values.iter().map(|&v| v != 0).collect();
+                self.calls.set_boolean(vrs, &b)
+            }
         }
-        Ok(())
+        .map_err(CouplingError::new)
     }
-}
-
-/// One Integer or Boolean (0/1) value of an instance.
-fn get_discrete(inst: &mut Instance, kind: Discrete, vr: u32) -> Result<i32, String> {
-    match kind {
-        Discrete::Integer => {
-            let mut v = [0];
-            inst.get_integer(&[vr], &mut v).map_err(|e| e.to_string())?;
-            Ok(v[0])
-        }
-        Discrete::Boolean => {
-            let mut v = [false];
-            inst.get_boolean(&[vr], &mut v).map_err(|e| e.to_string())?;
-            Ok(i32::from(v[0]))
-        }
-    }
-}
-
-/// Set one Integer or Boolean (0/1) input of an instance.
-fn set_discrete(inst: &mut Instance, kind: Discrete, vr: u32, value: i32) -> Result<(), String> {
-    match kind {
-        Discrete::Integer => inst.set_integer(&[vr], &[value]),
-        Discrete::Boolean => inst.set_boolean(&[vr], &[value != 0]),
-    }
-    .map(drop)
-    .map_err(|e| e.to_string())
 }

@@ -40,6 +40,9 @@ enum Command {
     Cosim(tbi::cli::cosim::CosimArgs),
     /// Run a scenario both ways (FMUs and monolithic) and report their differences.
     Validate(tbi::cli::validate::ValidateArgs),
+    /// Serve one FMU instance to a master over standard input (started by `tbi cosim`).
+    #[command(hide = true)]
+    FmuWorker,
 }
 
 #[derive(Subcommand)]
@@ -69,6 +72,9 @@ fn main() -> ExitCode {
         tbi::interrupt::install();
     }
     let result = match cli.command {
+        Command::FmuWorker => {
+            return ExitCode::from(fmi_import::remote::serve().clamp(0, 255) as u8);
+        }
         Command::Simulate(args) => tbi::cli::simulate::main(args),
         Command::Cosim(args) => tbi::cli::cosim::main(args),
         Command::Validate(args) => tbi::cli::validate::main(args),

@@ -41,7 +41,7 @@ pub mod wire;
 
 pub use open::{open, open_exported, OpenSystem};
 pub use read::{parse_ssd, Component, RecordedOutput, Ssd, SspConnection};
-pub use wire::{exchanged_kind, wire, Output, Wired};
+pub use wire::{exchanged_kind, wire, wire_with, Output, Wired};
 
 /// The folder of a system archive that holds its FMUs (its components' `source`), as
 /// `tbi export` writes it.

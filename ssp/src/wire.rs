@@ -4,8 +4,8 @@
 
 use super::open::OpenSystem;
 use super::read::Component;
-use fmi_import::FmuParticipant;
-use fmi_import::{Fmu, InstantiateOptions};
+use fmi_import::remote::{RemoteInstance, WorkerOptions};
+use fmi_import::{FmiCalls, Fmu, FmuParticipant, InstantiateOptions, LocalInstance};
 use model_description::{Causality, ModelDescription, Variability, VariableKind};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -29,8 +29,8 @@ pub struct Wired {
     pub outputs: Vec<Output>,
     /// The system's own outputs ([`Ssd::recorded`]), by their names.
     pub recorded: Vec<Output>,
-    /// The loaded FMUs (participant order), for name look-ups.
-    pub fmus: Vec<Arc<Fmu>>,
+    /// The components' model descriptions (participant order), for name look-ups.
+    pub fmus: Vec<Arc<ModelDescription>>,
 }
 
 /// The variable a connection names, and its kind (`None`: Real; Enumerations connect as
@@ -69,13 +69,20 @@ pub fn exchanged_kind(kind: &VariableKind) -> Option<Option<Discrete>> {
     }
 }
 
-/// Unpacks the components' FMUs, reads their model descriptions and loads their libraries,
-/// as many side by side as the machine has cores (the archives are independent; no code of
-/// an FMU runs but its library's initialisers), each result in component order. They are
-/// instantiated afterwards, in order, on the calling thread.
-fn load_all(open: &OpenSystem) -> Vec<Result<std::sync::Arc<Fmu>, String>> {
+/// A component's FMU, ready to instantiate: loaded in this process, or described only (its
+/// library is loaded by its worker).
+enum Ready {
+    Loaded(Arc<Fmu>),
+    Described(Box<ModelDescription>),
+}
+
+/// Unpacks the components' FMUs and reads their model descriptions, and in process loads
+/// their libraries, as many side by side as the machine has cores (the archives are
+/// independent; no code of an FMU runs but its library's initialisers), each result in
+/// component order. They are instantiated afterwards, in order, on the calling thread.
+fn load_all(open: &OpenSystem, isolated: bool) -> Vec<Result<Ready, String>> {
     let origin = &open.origin;
-    let load = |c: &Component| -> Result<std::sync::Arc<Fmu>, String> {
+    let load = |c: &Component| -> Result<Ready, String> {
         let path = open.base.join(&c.source);
         if !path.is_file() {
             return Err(format!(
@@ -83,7 +90,14 @@ fn load_all(open: &OpenSystem) -> Vec<Result<std::sync::Arc<Fmu>, String>> {
                 c.name, c.source
             ));
         }
-        Fmu::load(&path).map_err(|e| format!("{origin}: component \"{}\": {e}", c.name))
+        let named = |e: fmi_import::FmiError| format!("{origin}: component \"{}\": {e}", c.name);
+        if isolated {
+            Fmu::describe(&path)
+                .map(|md| Ready::Described(Box::new(md)))
+                .map_err(named)
+        } else {
+            Fmu::load(&path).map(Ready::Loaded).map_err(named)
+        }
     };
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let mut loaded = Vec::new();
@@ -112,21 +126,31 @@ pub fn wire(
     start: f64,
     stop: f64,
 ) -> Result<Wired, String> {
-    let (fmus, mut instances, index) = instantiate_all(open)?;
+    wire_with(open, sets, start, stop, None)
+}
+
+/// [`wire`], each FMU in a worker process started with `isolation` when given (its
+/// library is never loaded in this process), else all in this process.
+pub fn wire_with(
+    open: &OpenSystem,
+    sets: &[(String, String, String)],
+    start: f64,
+    stop: f64,
+    isolation: Option<&WorkerOptions>,
+) -> Result<Wired, String> {
+    let (fmus, mut instances, index) = instantiate_all(open, isolation)?;
     let (connections, discrete, outputs) = resolve_connections(open, &index, &fmus)?;
     for inst in &mut instances {
-        inst.setup_experiment(None, start, Some(stop * (1.0 + 1e-12) + 1e-9))
-            .map_err(|e| e.to_string())?;
-        inst.enter_initialization_mode()
-            .map_err(|e| e.to_string())?;
+        inst.setup_experiment(None, start, Some(stop * (1.0 + 1e-12) + 1e-9))?;
+        inst.enter_initialization_mode()?;
     }
     apply_values(open, sets, &index, &fmus, &mut instances)?;
     let mut system = System {
         participants: instances
             .into_iter()
             .zip(&fmus)
-            .map(|(inst, fmu)| {
-                Box::new(FmuParticipant::new(fmu, inst)) as Box<dyn tbi_coupling::Participant>
+            .map(|(calls, md)| {
+                Box::new(FmuParticipant::new(md, calls)) as Box<dyn tbi_coupling::Participant>
             })
             .collect(),
         connections,
@@ -146,35 +170,51 @@ pub fn wire(
     })
 }
 
-/// The components' FMUs loaded and instantiated in order, and each component's index by
-/// name.
+/// The components' FMUs loaded (or described) and instantiated in order, in this process
+/// or each in a worker started with `isolation`, and each component's index by name.
 #[allow(clippy::type_complexity)]
 fn instantiate_all(
     open: &OpenSystem,
+    isolation: Option<&WorkerOptions>,
 ) -> Result<
     (
-        Vec<Arc<Fmu>>,
-        Vec<fmi_import::Instance>,
+        Vec<Arc<ModelDescription>>,
+        Vec<Box<dyn FmiCalls>>,
         HashMap<String, usize>,
     ),
     String,
 > {
     let mut fmus = Vec::new();
-    let mut instances = Vec::new();
+    let mut instances: Vec<Box<dyn FmiCalls>> = Vec::new();
     let mut index = HashMap::new();
-    for (i, (c, fmu)) in (open.ssd.components.iter()).zip(load_all(open)).enumerate() {
-        let fmu = fmu?;
-        let inst = fmu
-            .instantiate(&InstantiateOptions {
-                instance_name: Some(c.name.clone()),
-                visible: false,
-                logging_on: false,
-                echo_log: true,
-            })
-            .map_err(|e| e.to_string())?;
+    for (i, (c, ready)) in (open.ssd.components.iter())
+        .zip(load_all(open, isolation.is_some()))
+        .enumerate()
+    {
+        let (md, calls): (ModelDescription, Box<dyn FmiCalls>) = match (ready?, isolation) {
+            (Ready::Loaded(fmu), _) => {
+                let inst = fmu
+                    .instantiate(&InstantiateOptions {
+                        instance_name: Some(c.name.clone()),
+                        visible: false,
+                        logging_on: false,
+                        echo_log: true,
+                    })
+                    .map_err(|e| e.to_string())?;
+                let md = fmu.model_description().clone();
+                (md, Box::new(LocalInstance::new(inst)))
+            }
+            (Ready::Described(md), Some(options)) => {
+                let path = open.base.join(&c.source);
+                let remote = RemoteInstance::start(&path, &c.name, options)
+                    .map_err(|e| format!("{}: {e}", open.origin))?;
+                (*md, Box::new(remote))
+            }
+            (Ready::Described(_), None) => unreachable!("described only when isolated"),
+        };
         index.insert(c.name.clone(), i);
-        fmus.push(fmu);
-        instances.push(inst);
+        fmus.push(Arc::new(md));
+        instances.push(calls);
     }
     Ok((fmus, instances, index))
 }
@@ -185,7 +225,7 @@ fn instantiate_all(
 fn resolve_connections(
     open: &OpenSystem,
     index: &HashMap<String, usize>,
-    fmus: &[Arc<Fmu>],
+    fmus: &[Arc<ModelDescription>],
 ) -> Result<(Vec<Connection>, Vec<DiscreteConnection>, Vec<Output>), String> {
     let origin = &open.origin;
     let mut connections = Vec::new();
@@ -198,18 +238,10 @@ fn resolve_connections(
             })
         };
         let (from, to) = (find(&c.start_element)?, find(&c.end_element)?);
-        let (src, src_kind) = connectable_variable(
-            fmus[from].model_description(),
-            &c.start_element,
-            &c.start_connector,
-            origin,
-        )?;
-        let (dst, dst_kind) = connectable_variable(
-            fmus[to].model_description(),
-            &c.end_element,
-            &c.end_connector,
-            origin,
-        )?;
+        let (src, src_kind) =
+            connectable_variable(&fmus[from], &c.start_element, &c.start_connector, origin)?;
+        let (dst, dst_kind) =
+            connectable_variable(&fmus[to], &c.end_element, &c.end_connector, origin)?;
         if src_kind != dst_kind {
             let name = |k: Option<Discrete>| match k {
                 None => "a Real",
@@ -275,8 +307,8 @@ fn apply_values(
     open: &OpenSystem,
     sets: &[(String, String, String)],
     index: &HashMap<String, usize>,
-    fmus: &[Arc<Fmu>],
-    instances: &mut [fmi_import::Instance],
+    fmus: &[Arc<ModelDescription>],
+    instances: &mut [Box<dyn FmiCalls>],
 ) -> Result<(), String> {
     let origin = &open.origin;
     // (component, variable, value as written, where it was written)
@@ -301,7 +333,7 @@ fn apply_values(
     }
     for (i, name, text, at) in values {
         let c = &open.ssd.components[i].name;
-        let md = fmus[i].model_description();
+        let md = &fmus[i];
         let var = md.variable(name).ok_or_else(|| {
             format!(
                 "{at}: component \"{c}\" has no variable \"{name}\"{}",
@@ -338,11 +370,11 @@ fn apply_values(
                 let min = r.attributes.min.or(declared.and_then(|a| a.min));
                 let max = r.attributes.max.or(declared.and_then(|a| a.max));
                 within(v, min, max).map_err(|bound| refused(&bound))?;
-                inst.set_real(&[vr], &[v]).map(drop)
+                inst.set_real(&[vr], &[v])
             }
             VariableKind::Integer(_) | VariableKind::Enumeration(_) => {
                 let v: i32 = text.parse().map_err(|_| refused("an integer"))?;
-                inst.set_integer(&[vr], &[v]).map(drop)
+                inst.set_integer(&[vr], &[v])
             }
             VariableKind::Boolean(_) => {
                 let v = match text {
@@ -350,9 +382,9 @@ fn apply_values(
                     "false" | "0" => false,
                     _ => return Err(refused("true, false, 1 or 0")),
                 };
-                inst.set_boolean(&[vr], &[v]).map(drop)
+                inst.set_boolean(&[vr], &[v])
             }
-            VariableKind::String(_) => inst.set_string(&[vr], &[text]).map(drop),
+            VariableKind::String(_) => inst.set_string(&[vr], &[text]),
         }
         .map_err(|e| format!("{at}: {e}"))?;
     }
@@ -372,7 +404,7 @@ fn within(v: f64, min: Option<f64>, max: Option<f64>) -> Result<(), String> {
 fn recorded_outputs(
     open: &OpenSystem,
     index: &HashMap<String, usize>,
-    fmus: &[Arc<Fmu>],
+    fmus: &[Arc<ModelDescription>],
 ) -> Result<Vec<Output>, String> {
     let origin = &open.origin;
     open.ssd
@@ -385,12 +417,7 @@ fn recorded_outputs(
                     r.name, r.element
                 )
             })?;
-            let (v, kind) = connectable_variable(
-                fmus[i].model_description(),
-                &r.element,
-                &r.connector,
-                origin,
-            )?;
+            let (v, kind) = connectable_variable(&fmus[i], &r.element, &r.connector, origin)?;
             Ok(Output {
                 name: r.name.clone(),
                 participant: i,

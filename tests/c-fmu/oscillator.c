@@ -14,6 +14,8 @@
  *   -DDISCARD_TERMINATE=1  ... and reports fmi2Terminated = true (default false)
  *   -DNAN_AT=t             x becomes NaN once the time passes t (fmi2DoStep still OK)
  *   -DOMIT_GET_REAL_STATUS the library does not export fmi2GetRealStatus
+ *   -DCRASH_AT=t           fmi2DoStep for a step ending after t ends the process or never
+ *                          returns, by -DCRASH_HOW: 1 segfault, 2 abort(), 3 exit(0), 4 hang
  *
  * Value references: Real k=0 d=1 m=2 x0=3 F=4 x=5 v=6 a=7; Integer steps=0;
  * Boolean moving_right=0; String label=0.
@@ -21,9 +23,11 @@
 #include "fmi2.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define GUID "{5c9a3c1e-7f7e-4d8f-9a43-0c2b7d1e6a21}"
 #define N_REALS 8
@@ -437,6 +441,19 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
             currentCommunicationPoint, inst->s.time);
         return fmi2Error;
     }
+#ifdef CRASH_AT
+    if (t_end > CRASH_AT) {
+#if CRASH_HOW == 1
+        raise(SIGSEGV);
+#elif CRASH_HOW == 2
+        abort();
+#elif CRASH_HOW == 3
+        exit(0);
+#else
+        for (;;) sleep(1);
+#endif
+    }
+#endif
 #ifdef FAIL_AT
     if (t_end > FAIL_AT) {
         LOG(inst, fmi2Error, "logStatusError", "DoStep failed at t=%g (the solver diverged, h=%g)",

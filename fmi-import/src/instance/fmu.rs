@@ -22,12 +22,28 @@ impl Fmu {
         Self::load_with_limits(path, &UnpackLimits::default())
     }
 
-    /// [`Fmu::load`] with explicit unpacking limits.
-    pub fn load_with_limits(
-        path: impl AsRef<Path>,
+    /// The model description of the FMU at `path`, checked as [`Fmu::load`] checks it
+    /// (the FMI 2.0 rules, a Co-Simulation interface, a binary for this platform), without
+    /// loading its library: no code of the FMU runs in this process. The unpacked copy is
+    /// removed before this returns.
+    pub fn describe(path: impl AsRef<Path>) -> Result<ModelDescription, FmiError> {
+        let (_, _dir, model_description, _) = Self::read(path.as_ref(), &UnpackLimits::default())?;
+        Ok(model_description)
+    }
+
+    /// Unpack, read and check the description; (name, folder, description, library path).
+    fn read(
+        path: &Path,
         limits: &UnpackLimits,
-    ) -> Result<Arc<Fmu>, FmiError> {
-        let path = path.as_ref();
+    ) -> Result<
+        (
+            String,
+            crate::archive::UnpackedDir,
+            ModelDescription,
+            String,
+        ),
+        FmiError,
+    > {
         let name = fmu_display_name(path);
         let dir = unpack(path, limits)?;
         let unsupported = |message: String| FmiError::Unsupported {
@@ -85,8 +101,7 @@ impl Fmu {
             )));
         }
         let relative = format!("binaries/{PLATFORM}/{identifier}.so");
-        let library_path = dir.path().join(&relative);
-        if !library_path.is_file() {
+        if !dir.path().join(&relative).is_file() {
             let platforms = list_platforms(dir.path());
             return Err(unsupported(format!(
                 "no {relative} in the archive (binaries for: {})",
@@ -97,6 +112,20 @@ impl Fmu {
                 }
             )));
         }
+        Ok((name, dir, model_description, relative))
+    }
+
+    /// [`Fmu::load`] with explicit unpacking limits.
+    pub fn load_with_limits(
+        path: impl AsRef<Path>,
+        limits: &UnpackLimits,
+    ) -> Result<Arc<Fmu>, FmiError> {
+        let (name, dir, model_description, relative) = Self::read(path.as_ref(), limits)?;
+        let unsupported = |message: String| FmiError::Unsupported {
+            fmu: name.clone(),
+            message,
+        };
+        let library_path = dir.path().join(&relative);
         let functions = Library::load(&library_path).map_err(|e| match e {
             LoadError::Open(message) => FmiError::Library {
                 fmu: name.clone(),

@@ -92,6 +92,47 @@ pub struct CosimArgs {
     /// Write the CSV even when its estimated size passes 2 GiB (the limit of `tbi run`).
     #[arg(long)]
     pub allow_large: bool,
+    /// Load every FMU into this process instead of one worker process per FMU (faster
+    /// calls; an FMU that crashes or exits then ends `tbi` with it).
+    #[arg(long)]
+    pub in_process: bool,
+    /// Longest wall time of one FMI call, s: a call that takes longer ends its FMU's worker
+    /// and fails the run, naming the component, the call and the time. Default: no limit.
+    /// Needs the FMUs in worker processes (not with --in-process).
+    #[arg(long, value_name = "SECONDS")]
+    pub fmu_timeout: Option<f64>,
+}
+
+/// How `tbi cosim` isolates the FMUs: none with `--in-process`, else a worker process per
+/// FMU running this executable's `fmu-worker`.
+fn isolation(args: &CosimArgs) -> Result<Option<fmi_import::remote::WorkerOptions>, String> {
+    let timeout = match args.fmu_timeout {
+        None => None,
+        Some(s) if s.is_finite() && s > 0.0 && s <= 1e9 => {
+            Some(std::time::Duration::from_secs_f64(s))
+        }
+        Some(s) => {
+            return Err(format!(
+                "--fmu-timeout {s}: expected a positive number of seconds"
+            ))
+        }
+    };
+    if args.in_process {
+        if timeout.is_some() {
+            return Err(
+                "--fmu-timeout needs the FMUs in worker processes; drop --in-process".into(),
+            );
+        }
+        return Ok(None);
+    }
+    let program = std::env::current_exe()
+        .map_err(|e| format!("cannot find the tbi executable for the FMU workers: {e}"))?;
+    Ok(Some(fmi_import::remote::WorkerOptions {
+        program,
+        args: vec!["fmu-worker".into()],
+        timeout,
+        cancelled: crate::interrupt::interrupted,
+    }))
 }
 
 /// The size an explicit scheme's interface defect may reach, relative to the values, before
@@ -108,7 +149,14 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
     let open = tbi_ssp::open(&args.system)?;
     let (cfg, annotated_step) = coupling(&args, &open)?;
     let (start, stop, h, steps, every) = timing(&args, &open, annotated_step)?;
-    let mut wired = tbi_ssp::wire(&open, &parameter_sets(&args)?, start, stop)?;
+    let isolation = isolation(&args)?;
+    let mut wired = tbi_ssp::wire_with(
+        &open,
+        &parameter_sets(&args)?,
+        start,
+        stop,
+        isolation.as_ref(),
+    )?;
     if cfg.scheme == SchemeKind::Implicit {
         can_iterate(&open, &wired)?;
     }
@@ -278,7 +326,6 @@ fn can_iterate(
 ) -> Result<(), Box<dyn std::error::Error>> {
     for (c, fmu) in open.ssd.components.iter().zip(&wired.fmus) {
         let can = fmu
-            .model_description()
             .co_simulation
             .as_ref()
             .is_some_and(|cs| cs.can_get_and_set_fmu_state);
@@ -329,7 +376,7 @@ fn recorded_columns(
                     )
                 )
             })?;
-        let md = wired.fmus[i].model_description();
+        let md = &wired.fmus[i];
         let var = md.variable(&v).ok_or_else(|| {
             format!(
                 "--record {r}: component \"{c}\" has no variable \"{v}\"{}",

@@ -1,0 +1,301 @@
+//! The master side: an FMU instance in a worker process ([`RemoteInstance`]), called as an
+//! in-process one through [`FmiCalls`].
+//!
+//! Each call is one frame to the worker; the value setters are not answered (a failure
+//! comes back with the next answer), so a coupling sweep's inputs, `fmi2DoStep` and its
+//! outputs cost two round trips. A reader thread hands the worker's answers over, and the
+//! caller waits for them in slices of 100 ms: between slices it ends the worker when the
+//! call has taken longer than [`WorkerOptions::timeout`] or when
+//! [`WorkerOptions::cancelled`] says the run was interrupted. A worker that dies (a crash,
+//! `abort`, `exit`) or is ended gives an error naming the instance, the FMI call and the
+//! time, and its unpacked folders are removed.
+
+use super::protocol::{read_frame, write_frame, In, Op, Out};
+use crate::participant::FmiCalls;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::time::{Duration, Instant};
+
+/// How a worker is started and watched.
+#[derive(Clone)]
+pub struct WorkerOptions {
+    /// The program that serves as worker ([`super::serve`]) and its arguments (for `tbi`:
+    /// its own executable and `fmu-worker`).
+    pub program: PathBuf,
+    pub args: Vec<String>,
+    /// Longest wall time of one FMI call, or none.
+    pub timeout: Option<Duration>,
+    /// Asked between waits: `true` ends the worker and fails the call (a signal arrived).
+    pub cancelled: fn() -> bool,
+}
+
+/// An FMU instance served by a worker process.
+pub struct RemoteInstance {
+    name: String,
+    child: Child,
+    to: Option<BufWriter<ChildStdin>>,
+    from: Receiver<Option<Vec<u8>>>,
+    options: WorkerOptions,
+    /// The communication point of the last `fmi2DoStep`, for messages.
+    time: f64,
+    /// Why the worker is gone, once it is.
+    gone: Option<String>,
+}
+
+impl RemoteInstance {
+    /// Starts a worker, which loads the FMU at `fmu` and instantiates it as `name`.
+    pub fn start(fmu: &Path, name: &str, options: &WorkerOptions) -> Result<Self, String> {
+        let mut child = Command::new(&options.program)
+            .args(&options.args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| {
+                format!(
+                    "component \"{name}\": cannot start an FMU worker ({}): {e}",
+                    options.program.display()
+                )
+            })?;
+        let stdout = child.stdout.take().expect("piped");
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut r = BufReader::new(stdout);
+            while let Ok(Some(frame)) = read_frame(&mut r) {
+                if tx.send(Some(frame)).is_err() {
+                    return;
+                }
+            }
+            let _ = tx.send(None);
+        });
+        let to = child.stdin.take().map(BufWriter::new);
+        let mut remote = RemoteInstance {
+            name: name.to_owned(),
+            child,
+            to,
+            from: rx,
+            options: options.clone(),
+            time: 0.0,
+            gone: None,
+        };
+        let path = fmu.to_string_lossy();
+        remote.call(Out::op(Op::Load).str(&path).str(name))?;
+        Ok(remote)
+    }
+
+    /// The process id of the worker.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// Sends `msg`; for an operation with an answer, waits for it and returns its values.
+    fn call(&mut self, msg: Out) -> Result<Vec<u8>, String> {
+        let op = Op::from_u8(msg.0[0]).expect("a known operation");
+        if let Some(why) = &self.gone {
+            return Err(why.clone());
+        }
+        let sent = self.to.as_mut().map(|to| {
+            write_frame(to, &msg.0).and_then(|()| if op.replies() { to.flush() } else { Ok(()) })
+        });
+        if !matches!(sent, Some(Ok(()))) {
+            return Err(self.ended(op, None));
+        }
+        if !op.replies() {
+            return Ok(Vec::new());
+        }
+        let started = Instant::now();
+        loop {
+            match self.from.recv_timeout(Duration::from_millis(100)) {
+                Ok(Some(frame)) => return self.answer(op, &frame),
+                Ok(None) | Err(RecvTimeoutError::Disconnected) => return Err(self.ended(op, None)),
+                Err(RecvTimeoutError::Timeout) => {
+                    if (self.options.cancelled)() {
+                        let why = "the run was interrupted by a signal; the FMU's worker was ended";
+                        return Err(self.ended(op, Some(why.into())));
+                    }
+                    if let Some(limit) = self.options.timeout {
+                        if started.elapsed() > limit {
+                            let why = format!(
+                                "the call did not return within {} s (--fmu-timeout); the FMU's worker was ended",
+                                limit.as_secs_f64()
+                            );
+                            return Err(self.ended(op, Some(why)));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The values of an answer, or the worker's message.
+    fn answer(&self, op: Op, frame: &[u8]) -> Result<Vec<u8>, String> {
+        let mut msg = In(frame);
+        match msg.u8()? {
+            0 => Ok(msg.0.to_vec()),
+            _ => Err(msg.str().unwrap_or_else(|e| format!("{}: {e}", op.call()))),
+        }
+    }
+
+    /// Ends the worker (if it still runs) and says what happened, once, for this and every
+    /// later call: its exit, or `why` it was ended.
+    fn ended(&mut self, op: Op, why: Option<String>) -> String {
+        let how = match why {
+            Some(why) => {
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+                why
+            }
+            None => match wait_briefly(&mut self.child) {
+                Some(status) => format!("the FMU's worker process {}", describe_exit(status)),
+                None => {
+                    let _ = self.child.kill();
+                    let _ = self.child.wait();
+                    "the FMU's worker process stopped answering and was ended".into()
+                }
+            },
+        };
+        crate::archive::UnpackedDir::remove_of_process("tbi-fmu", self.child.id());
+        self.to = None;
+        let message = format!(
+            "component \"{}\": {how}, during {} at t = {} s",
+            self.name,
+            op.call(),
+            self.time
+        );
+        self.gone = Some(message.clone());
+        message
+    }
+}
+
+/// The exit status of a worker whose pipe closed, once it has one (up to 2 s).
+fn wait_briefly(child: &mut Child) -> Option<std::process::ExitStatus> {
+    let until = Instant::now() + Duration::from_secs(2);
+    loop {
+        if let Ok(Some(s)) = child.try_wait() {
+            return Some(s);
+        }
+        if Instant::now() > until {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// "exited with status 0", "was killed by signal 11 (SIGSEGV)".
+fn describe_exit(status: std::process::ExitStatus) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    match (status.code(), status.signal()) {
+        (Some(code), _) => format!("exited with status {code}"),
+        (None, Some(sig)) => {
+            let name = match sig {
+                6 => " (SIGABRT)",
+                9 => " (SIGKILL)",
+                11 => " (SIGSEGV)",
+                15 => " (SIGTERM)",
+                _ => "",
+            };
+            format!("was killed by signal {sig}{name}")
+        }
+        _ => format!("ended ({status})"),
+    }
+}
+
+impl Drop for RemoteInstance {
+    /// Closes the worker's input, so that it frees its instance and exits; ends it if it
+    /// has not within 2 s.
+    fn drop(&mut self) {
+        self.to = None;
+        if self.gone.is_none() && wait_briefly(&mut self.child).is_some() {
+            return;
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        crate::archive::UnpackedDir::remove_of_process("tbi-fmu", self.child.id());
+    }
+}
+
+/// Copies an answer's values into `values`, which must be as many.
+fn fill<T: Copy>(values: &mut [T], got: Vec<T>) -> Result<(), String> {
+    if got.len() != values.len() {
+        return Err(format!(
+            "the worker answered {} values for {}",
+            got.len(),
+            values.len()
+        ));
+    }
+    values.copy_from_slice(&got);
+    Ok(())
+}
+
+fn bools(v: &[bool]) -> Vec<i32> {
+    v.iter().map(|&b| i32::from(b)).collect()
+}
+
+impl FmiCalls for RemoteInstance {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), String> {
+        self.time = start;
+        let m = Out::op(Op::SetupExperiment)
+            .opt_f64(tolerance)
+            .f64(start)
+            .opt_f64(stop);
+        self.call(m).map(drop)
+    }
+    fn enter_initialization_mode(&mut self) -> Result<(), String> {
+        self.call(Out::op(Op::EnterInitialization)).map(drop)
+    }
+    fn exit_initialization_mode(&mut self) -> Result<(), String> {
+        self.call(Out::op(Op::ExitInitialization)).map(drop)
+    }
+    fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        self.call(Out::op(Op::SetReal).u32s(vrs).f64s(values))
+            .map(drop)
+    }
+    fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), String> {
+        let bytes = self.call(Out::op(Op::GetReal).u32s(vrs))?;
+        fill(values, In(&bytes).f64s()?)
+    }
+    fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<(), String> {
+        self.call(Out::op(Op::SetInteger).u32s(vrs).i32s(values))
+            .map(drop)
+    }
+    fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<(), String> {
+        let bytes = self.call(Out::op(Op::GetInteger).u32s(vrs))?;
+        fill(values, In(&bytes).i32s()?)
+    }
+    fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<(), String> {
+        self.call(Out::op(Op::SetBoolean).u32s(vrs).i32s(&bools(values)))
+            .map(drop)
+    }
+    fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<(), String> {
+        let bytes = self.call(Out::op(Op::GetBoolean).u32s(vrs))?;
+        let got: Vec<bool> = In(&bytes).i32s()?.into_iter().map(|b| b != 0).collect();
+        fill(values, got)
+    }
+    fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<(), String> {
+        let m = values
+            .iter()
+            .fold(Out::op(Op::SetString).u32s(vrs), |m, s| m.str(s));
+        self.call(m).map(drop)
+    }
+    fn do_step(&mut self, t: f64, h: f64) -> Result<bool, String> {
+        self.time = t;
+        let bytes = self.call(Out::op(Op::DoStep).f64(t).f64(h))?;
+        Ok(In(&bytes).u8()? != 0)
+    }
+    fn save_state(&mut self) -> Result<(), String> {
+        self.call(Out::op(Op::SaveState)).map(drop)
+    }
+    fn restore_state(&mut self) -> Result<(), String> {
+        self.call(Out::op(Op::RestoreState)).map(drop)
+    }
+}
