@@ -411,3 +411,43 @@ fn unusable_arguments_are_refused() {
         );
     }
 }
+
+/// `tbi simulate` runs the FMU in process: an FMU that segfaults ends it, but every row
+/// computed before is in `<output>.partial`, and no result file pretends to be whole.
+#[test]
+fn rows_before_a_crash_stay_in_the_partial_file() {
+    let fmu = build_fmu(
+        &Variant::new("Crash")
+            .define("-DCRASH_AT=0.505")
+            .define("-DCRASH_HOW=1"),
+    );
+    let dir = fmu.parent().unwrap();
+    let run = tbi_in(
+        dir,
+        &[
+            "simulate",
+            "Crash.fmu",
+            "--step-size",
+            "0.01",
+            "--output",
+            "o.csv",
+        ],
+    );
+    assert!(!run.status.success());
+    assert!(!dir.join("o.csv").exists());
+    let rows = std::fs::read_to_string(dir.join("o.csv.partial")).unwrap();
+    // the header and the rows from t = 0 through the steps before the crash (t > 0.5)
+    let last: f64 = rows
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        rows.lines().count() >= 52 && (0.5..0.52).contains(&last),
+        "{rows}"
+    );
+}

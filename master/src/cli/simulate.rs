@@ -178,7 +178,14 @@ impl Write for LazyFile<'_> {
                 .map_err(|e| io::Error::new(e.kind(), format!("{}: {e}", self.path.display())))?;
             self.file = Some(io::BufWriter::new(f));
         }
-        self.file.as_mut().expect("opened above").write(buf)
+        let f = self.file.as_mut().expect("opened above");
+        let n = f.write(buf)?;
+        // each row reaches the file as it ends: an FMU that ends the process (tbi simulate
+        // runs it in process) leaves every row computed before in the .partial file
+        if buf[..n].ends_with(b"\n") {
+            f.flush()?;
+        }
+        Ok(n)
     }
 
     fn flush(&mut self) -> io::Result<()> {
