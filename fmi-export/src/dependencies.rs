@@ -41,7 +41,7 @@ pub fn probe<M: FmuModel>(
     let read = |m: &mut M| -> Result<Vec<u64>, String> {
         outputs
             .iter()
-            .map(|&vr| m.get_real(vr).map(f64::to_bits))
+            .map(|&vr| m.get_real(vr).map(f64::to_bits).map_err(String::from))
             .collect()
     };
     let base = read(model)?;

@@ -8,7 +8,7 @@
 ///
 /// ```no_run
 /// use std::path::Path;
-/// use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+/// use fmi_export::{FmuModel, Log, ModelError, Phase, StepOutcome};
 ///
 /// /// `y = ∫ u dt`
 /// #[derive(Clone)]
@@ -18,43 +18,43 @@
 /// }
 ///
 /// impl FmuModel for Integrator {
-///     fn instantiate(_resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+///     fn instantiate(_resources: &Path, _log: &dyn Log) -> Result<Self, ModelError> {
 ///         Ok(Integrator { u: 0.0, y: 0.0 })
 ///     }
 ///     fn guid(&self) -> String {
 ///         fmi_export::guid("integrator", "1", b"")
 ///     }
-///     fn exit_initialization(&mut self) -> Result<(), String> {
+///     fn exit_initialization(&mut self) -> Result<(), ModelError> {
 ///         Ok(())
 ///     }
-///     fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
+///     fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), ModelError> {
 ///         match vr {
 ///             0 => {
 ///                 self.u = value;
 ///                 Ok(())
 ///             }
-///             _ => Err(format!("unknown Real value reference {vr}")),
+///             _ => Err(ModelError::UnknownVariable { kind: "Real", vr }),
 ///         }
 ///     }
-///     fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+///     fn get_real(&mut self, vr: u32) -> Result<f64, ModelError> {
 ///         match vr {
 ///             0 => Ok(self.u),
 ///             1 => Ok(self.y),
-///             _ => Err(format!("unknown Real value reference {vr}")),
+///             _ => Err(ModelError::UnknownVariable { kind: "Real", vr }),
 ///         }
 ///     }
-///     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
+///     fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, ModelError> {
 ///         self.y += self.u * h;
 ///         Ok(StepOutcome::Ok)
 ///     }
-///     fn reset(&mut self) -> Result<(), String> {
+///     fn reset(&mut self) -> Result<(), ModelError> {
 ///         *self = Integrator { u: 0.0, y: 0.0 };
 ///         Ok(())
 ///     }
 ///     fn serialize_state(&self) -> Vec<u8> {
 ///         [self.u, self.y].iter().flat_map(|v| v.to_le_bytes()).collect()
 ///     }
-///     fn deserialize_state(&mut self, b: &[u8]) -> Result<(), String> {
+///     fn deserialize_state(&mut self, b: &[u8]) -> Result<(), ModelError> {
 ///         let f = |i: usize| b.get(8 * i..8 * i + 8).map(|s| f64::from_le_bytes(s.try_into().unwrap()));
 ///         (self.u, self.y) = (f(0).ok_or("short state")?, f(1).ok_or("short state")?);
 ///         Ok(())

@@ -49,7 +49,7 @@ pub mod state;
 pub use fmi2::{functions, types, uri};
 
 pub use guid::guid;
-pub use model::{FmuModel, Log, Phase, StepOutcome};
+pub use model::{FmuModel, Log, ModelError, Phase, StepOutcome};
 
 /// The `<CoSimulation>` capability flags that describe FMUs built with this plumbing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -14,7 +14,7 @@
 
 pub use contract::*;
 use fmi_export::model::{get_each, set_each};
-use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+use fmi_export::{FmuModel, Log, ModelError, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -323,7 +323,7 @@ impl BridgeFmu {
 }
 
 impl FmuModel for BridgeFmu {
-    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, ModelError> {
         let path = resources.join(BRIDGE_RESOURCE);
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let res: BridgeResources = serde_json::from_slice(&bytes)
@@ -345,14 +345,14 @@ impl FmuModel for BridgeFmu {
         self.guid.to_string()
     }
 
-    fn exit_initialization(&mut self) -> Result<(), String> {
+    fn exit_initialization(&mut self) -> Result<(), ModelError> {
         self.side.initialize(&self.inputs);
         self.initialized = true;
         self.dirty = true;
         Ok(())
     }
 
-    fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
+    fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), ModelError> {
         let l = &self.layout;
         let var = l.decode(vr);
         if !value.is_finite() {
@@ -362,10 +362,14 @@ impl FmuModel for BridgeFmu {
                 Some(BridgeVar::Wind { j, k }) => l.wind_in.name(j, k),
                 _ => format!("value reference {vr}"),
             };
-            return Err(format!("input {name} = {value} is not finite"));
+            return Err(ModelError::Refused(format!(
+                "input {name} = {value} is not finite"
+            )));
         }
         match var {
-            Some(BridgeVar::Damping(n)) => return self.set_damping(n, value),
+            Some(BridgeVar::Damping(n)) => {
+                return self.set_damping(n, value).map_err(ModelError::Refused)
+            }
             Some(BridgeVar::Wheel { w, k }) => *wheel_channel(&mut self.inputs[w], k) = value,
             Some(BridgeVar::Wind { j, k }) => {
                 self.side
@@ -374,9 +378,9 @@ impl FmuModel for BridgeFmu {
                     .expect("a wind input has its deck point")[j][k] = value
             }
             _ => {
-                return Err(format!(
+                return Err(ModelError::Refused(format!(
                     "value reference {vr} is not an input of the bridge FMU"
-                ))
+                )))
             }
         }
         self.dirty = true;
@@ -385,7 +389,7 @@ impl FmuModel for BridgeFmu {
 
     /// The wheelset inputs as one run of consecutive value references (what the master
     /// sends) go straight into place.
-    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
+    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), ModelError> {
         let Some(first) = self.layout.wheel_in.run(vr) else {
             return set_each(self, vr, values, phase);
         };
@@ -402,7 +406,7 @@ impl FmuModel for BridgeFmu {
 
     /// A run of consecutive value references inside one output block (the rail motion, as
     /// the master asks for it) is one copy from the output buffer.
-    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
+    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), ModelError> {
         let l = &self.layout;
         let Some(first) = Block::output_run(&[l.rail_out, l.probe_out], vr) else {
             return get_each(self, vr, values);
@@ -412,7 +416,7 @@ impl FmuModel for BridgeFmu {
         Ok(())
     }
 
-    fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+    fn get_real(&mut self, vr: u32) -> Result<f64, ModelError> {
         match self.layout.decode(vr) {
             Some(BridgeVar::Wheel { w, k }) => Ok(*wheel_channel(&mut self.inputs[w], k)),
             Some(BridgeVar::Wind { j, k }) => Ok(self
@@ -425,7 +429,7 @@ impl FmuModel for BridgeFmu {
                 Ok(self.outputs[slot])
             }
             Some(BridgeVar::Damping(n)) => Ok(self.res.modal.damping[n]),
-            None => Err(format!("unknown value reference {vr}")),
+            None => Err(ModelError::UnknownVariable { kind: "Real", vr }),
         }
     }
 
@@ -441,7 +445,7 @@ impl FmuModel for BridgeFmu {
         knowns: &[u32],
         seed: &[f64],
         out: &mut [f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), ModelError> {
         let l = self.layout.clone();
         let mut seeds = vec![WheelInput::default(); l.n_wheelsets()];
         let mut wind_seed = self
@@ -456,9 +460,9 @@ impl FmuModel for BridgeFmu {
                     wind_seed.as_mut().expect("a wind input has its deck point")[j][k] += s
                 }
                 _ => {
-                    return Err(format!(
+                    return Err(ModelError::Refused(format!(
                         "vKnown_ref: value reference {vr} is not an input of the bridge FMU"
-                    ))
+                    )))
                 }
             }
         }
@@ -485,16 +489,16 @@ impl FmuModel for BridgeFmu {
             match l.decode(vr) {
                 Some(BridgeVar::Output(slot)) => *o = d[slot],
                 _ => {
-                    return Err(format!(
+                    return Err(ModelError::Refused(format!(
                         "vUnknown_ref: value reference {vr} is not an output of the bridge FMU"
-                    ))
+                    )))
                 }
             }
         }
         Ok(())
     }
 
-    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
+    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, ModelError> {
         self.side.step(h, &self.inputs);
         self.dirty = true;
         if !self.side.state.q.iter().all(|q| q.is_finite()) {
@@ -503,7 +507,7 @@ impl FmuModel for BridgeFmu {
         Ok(StepOutcome::Ok)
     }
 
-    fn reset(&mut self) -> Result<(), String> {
+    fn reset(&mut self) -> Result<(), ModelError> {
         let fresh = BridgeFmu::from_parts(
             (*self.res).clone(),
             self.side.track.clone(),
@@ -523,7 +527,7 @@ impl FmuModel for BridgeFmu {
         .expect("state serialises")
     }
 
-    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("bridge state: {e}"))?;
         if s.inputs.len() != self.res.n_wheelsets
             || s.state.q.len() != self.res.modal.n_modes()

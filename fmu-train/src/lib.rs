@@ -10,7 +10,7 @@
 
 pub use contract::*;
 use fmi_export::model::set_each;
-use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+use fmi_export::{FmuModel, Log, ModelError, Phase, StepOutcome};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -331,7 +331,7 @@ fn pass_wind(wind: &[f64], side: &mut TrainSide) {
 }
 
 impl FmuModel for TrainFmu {
-    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, ModelError> {
         let path = resources.join(TRAIN_RESOURCE);
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let res: TrainDescription = serde_json::from_slice(&bytes)
@@ -347,13 +347,17 @@ impl FmuModel for TrainFmu {
         self.guid.to_string()
     }
 
-    fn setup_experiment(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+    fn setup_experiment(
+        &mut self,
+        start_time: f64,
+        _stop_time: Option<f64>,
+    ) -> Result<(), ModelError> {
         self.start_time = start_time;
         self.dirty = true;
         Ok(())
     }
 
-    fn exit_initialization(&mut self) -> Result<(), String> {
+    fn exit_initialization(&mut self) -> Result<(), ModelError> {
         let mut side = self.build_side()?;
         pass_wind(&self.wind, &mut side);
         side.initialize(self.start_time, &self.rails);
@@ -363,25 +367,27 @@ impl FmuModel for TrainFmu {
         Ok(())
     }
 
-    fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), String> {
+    fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), ModelError> {
         if !value.is_finite() {
-            return Err(format!("value reference {vr}: {value} is not finite"));
+            return Err(ModelError::Refused(format!(
+                "value reference {vr}: {value} is not finite"
+            )));
         }
         match self.layout.decode(vr) {
             Some(TrainVar::Rail { w, k }) => *rail_channel(&mut self.rails[w], k) = value,
             Some(TrainVar::Wind(i)) => self.wind[i] = value,
             Some(TrainVar::Parameter(j)) => {
                 if phase == Phase::Stepping {
-                    return Err(format!(
+                    return Err(ModelError::Refused(format!(
                         "parameter (value reference {vr}) is fixed after initialisation"
-                    ));
+                    )));
                 }
                 self.set_parameter(j, value)?;
             }
             _ => {
-                return Err(format!(
+                return Err(ModelError::Refused(format!(
                     "value reference {vr} is not an input or parameter of the train FMU"
-                ))
+                )))
             }
         }
         self.dirty = true;
@@ -390,7 +396,7 @@ impl FmuModel for TrainFmu {
 
     /// The rail motion as one run of consecutive value references (what the master sends)
     /// goes straight into place.
-    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), String> {
+    fn set_reals(&mut self, vr: &[u32], values: &[f64], phase: Phase) -> Result<(), ModelError> {
         let Some(first) = self.layout.rail_in.run(vr) else {
             return set_each(self, vr, values, phase);
         };
@@ -408,7 +414,7 @@ impl FmuModel for TrainFmu {
     /// A run of consecutive value references inside one output block is one copy from the
     /// output buffer; other outputs (the master's positions, speeds and forces of every
     /// wheelset) are gathered from it through the decode table.
-    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), String> {
+    fn get_reals(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), ModelError> {
         let l = &self.layout;
         if let Some(first) = Block::output_run(&[l.wheel_out, l.vehicle_out, l.body_x_out], vr) {
             self.refresh()?;
@@ -427,8 +433,8 @@ impl FmuModel for TrainFmu {
         Ok(())
     }
 
-    fn get_real(&mut self, vr: u32) -> Result<f64, String> {
-        let unknown = || format!("unknown value reference {vr}");
+    fn get_real(&mut self, vr: u32) -> Result<f64, ModelError> {
+        let unknown = || ModelError::UnknownVariable { kind: "Real", vr };
         match self.layout.decode(vr).ok_or_else(unknown)? {
             TrainVar::Rail { w, k } => Ok(*rail_channel(&mut self.rails[w], k)),
             TrainVar::Wind(i) => Ok(self.wind[i]),
@@ -443,7 +449,7 @@ impl FmuModel for TrainFmu {
         }
     }
 
-    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
+    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, ModelError> {
         let side = self.side.as_mut().ok_or("not initialised")?;
         pass_wind(&self.wind, side);
         side.step(h, &self.rails);
@@ -458,7 +464,7 @@ impl FmuModel for TrainFmu {
         Ok(StepOutcome::Ok)
     }
 
-    fn reset(&mut self) -> Result<(), String> {
+    fn reset(&mut self) -> Result<(), ModelError> {
         *self = TrainFmu::from_parts((*self.original).clone(), self.guid.to_string());
         Ok(())
     }
@@ -477,7 +483,7 @@ impl FmuModel for TrainFmu {
         .expect("state serialises")
     }
 
-    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("train state: {e}"))?;
         if s.rails.len() != self.layout.n_wheelsets() || s.wind.len() != self.wind.len() {
             return Err("train state does not match this FMU's size".into());

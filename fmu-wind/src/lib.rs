@@ -14,7 +14,7 @@
 //! measured record, another generator); the bridge and train FMUs apply the forces.
 
 pub use contract::*;
-use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+use fmi_export::{FmuModel, Log, ModelError, Phase, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -151,67 +151,72 @@ impl WindFmu {
 }
 
 impl FmuModel for WindFmu {
-    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+    fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, ModelError> {
         let path = resources.join(WIND_RESOURCE);
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let res: WindResources = serde_json::from_slice(&bytes)
             .map_err(|e| format!("{}: line {}: {e}", path.display(), e.line()))?;
         let guid = guid_for(&bytes);
-        WindFmu::from_parts(res, guid).map_err(|e| format!("{}: {e}", path.display()))
+        WindFmu::from_parts(res, guid)
+            .map_err(|e| ModelError::Resources(format!("{}: {e}", path.display())))
     }
 
     fn guid(&self) -> String {
         self.guid.clone()
     }
 
-    fn setup_experiment(&mut self, start_time: f64, _stop_time: Option<f64>) -> Result<(), String> {
+    fn setup_experiment(
+        &mut self,
+        start_time: f64,
+        _stop_time: Option<f64>,
+    ) -> Result<(), ModelError> {
         self.start_time = start_time;
         self.t = start_time;
         self.dirty = true;
         Ok(())
     }
 
-    fn exit_initialization(&mut self) -> Result<(), String> {
+    fn exit_initialization(&mut self) -> Result<(), ModelError> {
         self.t = self.start_time;
         self.dirty = true;
         Ok(())
     }
 
-    fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
+    fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), ModelError> {
         let Some(WindVar::Body(i)) = self.layout.decode(vr) else {
-            return Err(format!(
+            return Err(ModelError::Refused(format!(
                 "value reference {vr} is not an input of the wind FMU"
-            ));
+            )));
         };
         if !value.is_finite() {
-            return Err(format!(
+            return Err(ModelError::Refused(format!(
                 "input {} = {value} is not finite",
                 self.layout.body_in.name(i, 0)
-            ));
+            )));
         }
         self.x[i] = value;
         self.dirty = true;
         Ok(())
     }
 
-    fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+    fn get_real(&mut self, vr: u32) -> Result<f64, ModelError> {
         match self.layout.decode(vr) {
             Some(WindVar::Body(i)) => Ok(self.x[i]),
             Some(WindVar::Output(slot)) => {
                 self.refresh();
                 Ok(self.outputs[slot])
             }
-            None => Err(format!("unknown value reference {vr}")),
+            None => Err(ModelError::UnknownVariable { kind: "Real", vr }),
         }
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, String> {
+    fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
         self.t = t + h;
         self.dirty = true;
         Ok(StepOutcome::Ok)
     }
 
-    fn reset(&mut self) -> Result<(), String> {
+    fn reset(&mut self) -> Result<(), ModelError> {
         self.t = self.start_time;
         self.x.iter_mut().for_each(|x| *x = PARKED_X);
         self.dirty = true;
@@ -227,7 +232,7 @@ impl FmuModel for WindFmu {
         .expect("state serialises")
     }
 
-    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         let s: Saved = serde_json::from_slice(bytes).map_err(|e| format!("wind state: {e}"))?;
         if s.x.len() != self.x.len() {
             return Err("wind state does not match this FMU's size".into());

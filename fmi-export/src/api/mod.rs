@@ -90,7 +90,7 @@ mod tests {
     }
 
     impl FmuModel for Mock {
-        fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, String> {
+        fn instantiate(resources: &Path, _log: &dyn Log) -> Result<Self, crate::ModelError> {
             if resources.ends_with("broken") {
                 panic!("cannot cope with {}", resources.display());
             }
@@ -99,33 +99,38 @@ mod tests {
         fn guid(&self) -> String {
             "mock-guid".to_owned()
         }
-        fn exit_initialization(&mut self) -> Result<(), String> {
+        fn exit_initialization(&mut self) -> Result<(), crate::ModelError> {
             Ok(())
         }
-        fn set_real(&mut self, vr: u32, value: f64, _phase: Phase) -> Result<(), String> {
+        fn set_real(
+            &mut self,
+            vr: u32,
+            value: f64,
+            _phase: Phase,
+        ) -> Result<(), crate::ModelError> {
             match vr {
                 0 => {
                     self.u = value;
                     Ok(())
                 }
-                _ => Err(format!("unknown value reference {vr}")),
+                _ => Err(crate::ModelError::UnknownVariable { kind: "Real", vr }),
             }
         }
-        fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+        fn get_real(&mut self, vr: u32) -> Result<f64, crate::ModelError> {
             match vr {
                 1 => Ok(self.u * self.t),
-                _ => Err(format!("unknown value reference {vr}")),
+                _ => Err(crate::ModelError::UnknownVariable { kind: "Real", vr }),
             }
         }
-        fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, String> {
+        fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, crate::ModelError> {
             assert!(h <= 1.0, "step {h} too large for the mock");
             if h > 0.5 {
-                return Err("h > 0.5".to_owned());
+                return Err("h > 0.5".into());
             }
             self.t = t + h;
             Ok(StepOutcome::Ok)
         }
-        fn reset(&mut self) -> Result<(), String> {
+        fn reset(&mut self) -> Result<(), crate::ModelError> {
             *self = Mock { u: 0.0, t: 0.0 };
             Ok(())
         }
@@ -135,7 +140,7 @@ mod tests {
                 .flat_map(|v| v.to_le_bytes())
                 .collect()
         }
-        fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), crate::ModelError> {
             let v: Vec<f64> = bytes
                 .chunks_exact(8)
                 .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
@@ -150,31 +155,31 @@ mod tests {
     struct Other(Mock);
 
     impl FmuModel for Other {
-        fn instantiate(resources: &Path, log: &dyn Log) -> Result<Self, String> {
+        fn instantiate(resources: &Path, log: &dyn Log) -> Result<Self, crate::ModelError> {
             Mock::instantiate(resources, log).map(Other)
         }
         fn guid(&self) -> String {
             self.0.guid()
         }
-        fn exit_initialization(&mut self) -> Result<(), String> {
+        fn exit_initialization(&mut self) -> Result<(), crate::ModelError> {
             Ok(())
         }
-        fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), String> {
+        fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), crate::ModelError> {
             self.0.set_real(vr, value, phase)
         }
-        fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+        fn get_real(&mut self, vr: u32) -> Result<f64, crate::ModelError> {
             self.0.get_real(vr)
         }
-        fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, String> {
+        fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, crate::ModelError> {
             self.0.do_step(t, h)
         }
-        fn reset(&mut self) -> Result<(), String> {
+        fn reset(&mut self) -> Result<(), crate::ModelError> {
             self.0.reset()
         }
         fn serialize_state(&self) -> Vec<u8> {
             self.0.serialize_state()
         }
-        fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), crate::ModelError> {
             self.0.deserialize_state(bytes)
         }
     }

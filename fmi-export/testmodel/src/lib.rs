@@ -27,7 +27,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use fmi_export::{FmuModel, Log, Phase, StepOutcome};
+use fmi_export::{FmuModel, Log, ModelError, Phase, StepOutcome};
 
 /// `modelIdentifier` (the library name).
 pub const MODEL_IDENTIFIER: &str = "testmodel";
@@ -210,7 +210,7 @@ impl FmuModel for Oscillator {
     const LOG_CATEGORIES: &'static [(&'static str, &'static str)] =
         &[("logModel", "Configuration read at instantiation")];
 
-    fn instantiate(resources: &Path, log: &dyn Log) -> Result<Self, String> {
+    fn instantiate(resources: &Path, log: &dyn Log) -> Result<Self, ModelError> {
         let path = resources.join(CONFIG_FILE);
         let bytes =
             std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
@@ -229,30 +229,30 @@ impl FmuModel for Oscillator {
         self.config.guid.clone()
     }
 
-    fn exit_initialization(&mut self) -> Result<(), String> {
+    fn exit_initialization(&mut self) -> Result<(), ModelError> {
         self.p.validate()?;
         self.x = self.p.x0;
         self.v = self.p.v0;
         Ok(())
     }
 
-    fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), String> {
+    fn set_real(&mut self, vr: u32, value: f64, phase: Phase) -> Result<(), ModelError> {
         match vr {
             vr::FORCE => {
                 self.force = value;
                 Ok(())
             }
-            vr::X | vr::V | vr::ENERGY => Err(format!(
+            vr::X | vr::V | vr::ENERGY => Err(ModelError::Refused(format!(
                 "value reference {vr} is an output and cannot be set"
-            )),
+            ))),
             _ => {
                 let (name, slot) = self
                     .parameter_mut(vr)
                     .ok_or_else(|| format!("unknown Real value reference {vr}"))?;
                 if phase == Phase::Stepping {
-                    return Err(format!(
+                    return Err(ModelError::Refused(format!(
                         "{name} (value reference {vr}) is a fixed parameter and cannot be set in step mode"
-                    ));
+                    )));
                 }
                 *slot = value;
                 // Outputs reflect the initial state until initialization ends.
@@ -263,7 +263,7 @@ impl FmuModel for Oscillator {
         }
     }
 
-    fn get_real(&mut self, vr: u32) -> Result<f64, String> {
+    fn get_real(&mut self, vr: u32) -> Result<f64, ModelError> {
         Ok(match vr {
             vr::FORCE => self.force,
             vr::X => self.x,
@@ -278,12 +278,12 @@ impl FmuModel for Oscillator {
         })
     }
 
-    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, String> {
+    fn do_step(&mut self, _t: f64, h: f64) -> Result<StepOutcome, ModelError> {
         let n = (h / self.config.max_substep).ceil().max(1.0);
         if n > 1e7 {
-            return Err(format!(
+            return Err(ModelError::Refused(format!(
                 "step size {h} needs {n} substeps; use smaller steps"
-            ));
+            )));
         }
         let dt = h / n;
         let (mut x, mut v) = (self.x, self.v);
@@ -291,7 +291,9 @@ impl FmuModel for Oscillator {
             (x, v) = self.rk4(x, v, dt);
         }
         if !(x.is_finite() && v.is_finite()) {
-            return Err(format!("the state became non-finite (x = {x}, v = {v})"));
+            return Err(ModelError::Failed(format!(
+                "the state became non-finite (x = {x}, v = {v})"
+            )));
         }
         if x.abs() > self.p.x_max {
             return Ok(StepOutcome::Discard(format!(
@@ -304,7 +306,7 @@ impl FmuModel for Oscillator {
         Ok(StepOutcome::Ok)
     }
 
-    fn reset(&mut self) -> Result<(), String> {
+    fn reset(&mut self) -> Result<(), ModelError> {
         *self = Oscillator::from_config(Arc::clone(&self.config));
         Ok(())
     }
@@ -327,19 +329,19 @@ impl FmuModel for Oscillator {
         .collect()
     }
 
-    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         if bytes.len() != STATE_LEN {
-            return Err(format!(
+            return Err(ModelError::Failed(format!(
                 "oscillator state has {} bytes, expected {STATE_LEN}",
                 bytes.len()
-            ));
+            )));
         }
         let v: Vec<f64> = bytes
             .chunks_exact(8)
             .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
             .collect();
         if v.iter().any(|x| !x.is_finite()) {
-            return Err("oscillator state contains non-finite values".to_owned());
+            return Err("oscillator state contains non-finite values".into());
         }
         let p = Parameters {
             mass: v[0],
