@@ -2,8 +2,10 @@
 //! in-process one through [`FmiCalls`].
 //!
 //! Each call is one frame to the worker; the value setters are not answered (a failure
-//! comes back with the next answer), so a coupling sweep's inputs, `fmi2DoStep` and its
-//! outputs cost two round trips. A reader thread hands the worker's answers over, and the
+//! comes back with the next answer). After a step the outputs the master reads are those it
+//! read after the step before, so `fmi2DoStep` asks for them in the same round trip and the
+//! next `fmi2GetReal` of those value references takes them: a coupling sweep's inputs, step
+//! and outputs cost one round trip. A reader thread hands the worker's answers over, and the
 //! caller waits for them in slices of 100 ms: between slices it ends the worker when the
 //! call has taken longer than [`WorkerOptions::timeout`] or when
 //! [`WorkerOptions::cancelled`] says the run was interrupted. A worker that dies (a crash,
@@ -31,6 +33,10 @@ pub struct WorkerOptions {
     pub cancelled: fn() -> bool,
 }
 
+/// Reals fetched with a step: their value references and values (or the failure of
+/// reading them).
+type Fetched = (Vec<u32>, Result<Vec<f64>, String>);
+
 /// An FMU instance served by a worker process.
 pub struct RemoteInstance {
     name: String,
@@ -42,6 +48,12 @@ pub struct RemoteInstance {
     time: f64,
     /// Why the worker is gone, once it is.
     gone: Option<String>,
+    /// The value references read first after the last step: fetched with the next step.
+    after_step: Option<Vec<u32>>,
+    /// What that step fetched (the values or `fmi2GetReal`'s failure), until the next call.
+    fetched: Option<Fetched>,
+    /// Whether a step was the last call (so the next `fmi2GetReal` is "after the step").
+    stepped: bool,
 }
 
 impl RemoteInstance {
@@ -79,6 +91,9 @@ impl RemoteInstance {
             options: options.clone(),
             time: 0.0,
             gone: None,
+            after_step: None,
+            fetched: None,
+            stepped: false,
         };
         let path = fmu.to_string_lossy();
         remote.call(Out::op(Op::Load).str(&path).str(name))?;
@@ -93,6 +108,9 @@ impl RemoteInstance {
     /// Sends `msg`; for an operation with an answer, waits for it and returns its values.
     fn call(&mut self, msg: Out) -> Result<Vec<u8>, String> {
         let op = Op::from_u8(msg.0[0]).expect("a known operation");
+        // anything sent after a step may change what it fetched
+        self.fetched = None;
+        self.stepped = false;
         if let Some(why) = &self.gone {
             return Err(why.clone());
         }
@@ -261,6 +279,15 @@ impl FmiCalls for RemoteInstance {
             .map(drop)
     }
     fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), String> {
+        if let Some((fetched_vrs, got)) = self.fetched.take() {
+            if fetched_vrs == vrs {
+                self.stepped = false;
+                return fill(values, got?);
+            }
+        }
+        if self.stepped {
+            self.after_step = Some(vrs.to_vec());
+        }
         let bytes = self.call(Out::op(Op::GetReal).u32s(vrs))?;
         fill(values, In(&bytes).f64s()?)
     }
@@ -289,8 +316,21 @@ impl FmiCalls for RemoteInstance {
     }
     fn do_step(&mut self, t: f64, h: f64) -> Result<bool, String> {
         self.time = t;
-        let bytes = self.call(Out::op(Op::DoStep).f64(t).f64(h))?;
-        Ok(In(&bytes).u8()? != 0)
+        let Some(vrs) = self.after_step.clone() else {
+            let bytes = self.call(Out::op(Op::DoStep).f64(t).f64(h))?;
+            self.stepped = true;
+            return Ok(In(&bytes).u8()? != 0);
+        };
+        let bytes = self.call(Out::op(Op::DoStepGet).f64(t).f64(h).u32s(&vrs))?;
+        let mut answer = In(&bytes);
+        let discarded = answer.u8()? != 0;
+        let got = match answer.u8()? {
+            0 => Ok(answer.f64s()?),
+            _ => Err(answer.str()?),
+        };
+        self.fetched = Some((vrs, got));
+        self.stepped = true;
+        Ok(discarded)
     }
     fn save_state(&mut self) -> Result<(), String> {
         self.call(Out::op(Op::SaveState)).map(drop)

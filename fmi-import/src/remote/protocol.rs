@@ -34,6 +34,9 @@ pub enum Op {
     DoStep = 12,
     SaveState = 13,
     RestoreState = 14,
+    /// t, h, vrs → discarded (u8), then the Reals of `vrs` after the step: `0` and the
+    /// values, or `1` and the message of their `fmi2GetReal`'s failure
+    DoStepGet = 15,
 }
 
 impl Op {
@@ -54,6 +57,7 @@ impl Op {
             12 => DoStep,
             13 => SaveState,
             14 => RestoreState,
+            15 => DoStepGet,
             _ => return None,
         })
     }
@@ -78,7 +82,7 @@ impl Op {
             SetBoolean => "fmi2SetBoolean",
             GetBoolean => "fmi2GetBoolean",
             SetString => "fmi2SetString",
-            DoStep => "fmi2DoStep",
+            DoStep | DoStepGet => "fmi2DoStep",
             SaveState => "fmi2GetFMUstate",
             RestoreState => "fmi2SetFMUstate",
         }

@@ -147,6 +147,16 @@ fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<
             let (t, h) = (msg.f64()?, msg.f64()?);
             inst.do_step(t, h).map(|d| none.u8(u8::from(d)))
         }
+        Op::DoStepGet => {
+            let (t, h, vrs) = (msg.f64()?, msg.f64()?, msg.u32s()?);
+            let discarded = inst.do_step(t, h)?;
+            let mut v = vec![0.0; vrs.len()];
+            let reply = none.u8(u8::from(discarded));
+            Ok(match inst.get_real(&vrs, &mut v) {
+                Ok(()) => reply.u8(0).f64s(&v),
+                Err(e) => reply.u8(1).str(&e),
+            })
+        }
         Op::SaveState => inst.save_state().map(|()| none),
         Op::RestoreState => inst.restore_state().map(|()| none),
     }
