@@ -1,8 +1,8 @@
 //! The master side: an FMU instance in a worker process ([`RemoteInstance`]), called as an
 //! in-process one through [`FmiCalls`].
 //!
-//! Each call is one frame to the worker; the value setters are not answered (a failure
-//! comes back with the next answer). After a step the outputs the master reads are those it
+//! Each call is one frame to the worker; the value setters and the state saves and
+//! restores are not answered (a failure comes back with the next answer). After a step the outputs the master reads are those it
 //! read after the step before, so `fmi2DoStep` asks for them in the same round trip and the
 //! next `fmi2GetReal` of those value references takes them: a coupling sweep's inputs, step
 //! and outputs cost one round trip. A reader thread hands the worker's answers over, and the
@@ -15,9 +15,9 @@
 use super::protocol::{read_frame, write_frame, In, Op, Out};
 use crate::participant::FmiCalls;
 use std::io::{BufReader, BufWriter, Write};
+use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// How a worker is started and watched.
@@ -42,7 +42,7 @@ pub struct RemoteInstance {
     name: String,
     child: Child,
     to: Option<BufWriter<ChildStdin>>,
-    from: Receiver<Option<Vec<u8>>>,
+    from: BufReader<ChildStdout>,
     options: WorkerOptions,
     /// The communication point of the last `fmi2DoStep`, for messages.
     time: f64,
@@ -71,23 +71,13 @@ impl RemoteInstance {
                     options.program.display()
                 )
             })?;
-        let stdout = child.stdout.take().expect("piped");
-        let (tx, rx) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            let mut r = BufReader::new(stdout);
-            while let Ok(Some(frame)) = read_frame(&mut r) {
-                if tx.send(Some(frame)).is_err() {
-                    return;
-                }
-            }
-            let _ = tx.send(None);
-        });
+        let from = BufReader::new(child.stdout.take().expect("piped"));
         let to = child.stdin.take().map(BufWriter::new);
         let mut remote = RemoteInstance {
             name: name.to_owned(),
             child,
             to,
-            from: rx,
+            from,
             options: options.clone(),
             time: 0.0,
             gone: None,
@@ -125,23 +115,53 @@ impl RemoteInstance {
         }
         let started = Instant::now();
         loop {
-            match self.from.recv_timeout(Duration::from_millis(100)) {
-                Ok(Some(frame)) => return self.answer(op, &frame),
-                Ok(None) | Err(RecvTimeoutError::Disconnected) => return Err(self.ended(op, None)),
-                Err(RecvTimeoutError::Timeout) => {
-                    if (self.options.cancelled)() {
-                        let why = "the run was interrupted by a signal; the FMU's worker was ended";
-                        return Err(self.ended(op, Some(why.into())));
+            match self.readable(Duration::from_millis(100)) {
+                Ok(true) => {
+                    return match read_frame(&mut self.from) {
+                        Ok(Some(frame)) => self.answer(op, &frame),
+                        Ok(None) | Err(_) => Err(self.ended(op, None)),
                     }
-                    if let Some(limit) = self.options.timeout {
-                        if started.elapsed() > limit {
-                            let why = format!(
-                                "the call did not return within {} s (--fmu-timeout); the FMU's worker was ended",
-                                limit.as_secs_f64()
-                            );
-                            return Err(self.ended(op, Some(why)));
-                        }
-                    }
+                }
+                Ok(false) => {}
+                Err(_) => return Err(self.ended(op, None)),
+            }
+            if (self.options.cancelled)() {
+                let why = "the run was interrupted by a signal; the FMU's worker was ended";
+                return Err(self.ended(op, Some(why.into())));
+            }
+            if let Some(limit) = self.options.timeout {
+                if started.elapsed() > limit {
+                    let why = format!(
+                        "the call did not return within {} s (--fmu-timeout); the FMU's worker was ended",
+                        limit.as_secs_f64()
+                    );
+                    return Err(self.ended(op, Some(why)));
+                }
+            }
+        }
+    }
+
+    /// Whether the worker's answer can be read (or its end seen) within `wait`.
+    fn readable(&mut self, wait: Duration) -> std::io::Result<bool> {
+        if !self.from.buffer().is_empty() {
+            return Ok(true);
+        }
+        let mut fd = libc::pollfd {
+            fd: self.from.get_ref().as_raw_fd(),
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        // SAFETY: one valid pollfd for the duration of the call.
+        let n = unsafe { libc::poll(&mut fd, 1, wait.as_millis() as libc::c_int) };
+        match n {
+            n if n > 0 => Ok(true),
+            0 => Ok(false),
+            _ => {
+                let e = std::io::Error::last_os_error();
+                if e.kind() == std::io::ErrorKind::Interrupted {
+                    Ok(false)
+                } else {
+                    Err(e)
                 }
             }
         }

@@ -32,7 +32,9 @@ pub enum Op {
     SetString = 11,
     /// t, h → discarded (u8)
     DoStep = 12,
+    /// no reply (as the setters)
     SaveState = 13,
+    /// no reply (as the setters)
     RestoreState = 14,
     /// t, h, vrs → discarded (u8), then the Reals of `vrs` after the step: `0` and the
     /// values, or `1` and the message of their `fmi2GetReal`'s failure
@@ -64,7 +66,10 @@ impl Op {
 
     /// Whether the worker answers this operation (the value setters are pipelined).
     pub fn replies(self) -> bool {
-        !matches!(self, Op::SetReal | Op::SetInteger | Op::SetBoolean)
+        !matches!(
+            self,
+            Op::SetReal | Op::SetInteger | Op::SetBoolean | Op::SaveState | Op::RestoreState
+        )
     }
 
     /// The FMI function, for messages.
