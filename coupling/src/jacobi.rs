@@ -6,8 +6,8 @@
 
 use super::convergence::{Groups, WeightedRms};
 use super::exchange::Exchange;
-use super::scheme::{discard_error, do_step, CouplingScheme, StepReport};
-use super::system::{CouplingError, StepStatus, System};
+use super::scheme::{discard_error, step_all, CouplingScheme, StepReport};
+use super::system::{CouplingError, System};
 
 /// Explicit Gauss–Jacobi scheme.
 #[derive(Debug, Clone)]
@@ -55,10 +55,8 @@ impl CouplingScheme for Jacobi {
         self.lagged.clone_from(&ex.values);
         ex.write_all(sys)?;
         sys.pass_discrete(None)?;
-        for p in 0..sys.participants.len() {
-            if do_step(sys, p, t, h)? == StepStatus::Discard {
-                return Err(discard_error(sys, "jacobi", p, t, h));
-            }
+        if let Some(p) = step_all(sys, t, h)? {
+            return Err(discard_error(sys, "jacobi", p, t, h));
         }
         ex.read_all(sys)?;
         self.fresh.clone_from(&ex.values);

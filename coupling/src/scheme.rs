@@ -1,6 +1,6 @@
 //! The interface every coupling algorithm implements, and the helpers they share.
 
-use super::system::{CouplingError, StepStatus, System};
+use super::system::{CouplingError, Participant, StepStatus, System};
 
 /// What one coupling step did.
 #[derive(Debug, Clone, PartialEq)]
@@ -57,6 +57,31 @@ pub(crate) fn do_step(
     let part = &mut sys.participants[p];
     part.do_step(t, h)
         .map_err(|e| CouplingError::call(part.name(), format!("do_step(t = {t}, h = {h})"), e))
+}
+
+/// Steps every participant from `t` to `t + h` on the inputs already written, starting all
+/// before waiting for any ([`Participant::start_step`]): participants in processes of their
+/// own step side by side. Returns the first that discarded its step, if any (the others have
+/// stepped all the same).
+pub(crate) fn step_all(sys: &mut System, t: f64, h: f64) -> Result<Option<usize>, CouplingError> {
+    let named = |part: &dyn Participant, e| {
+        CouplingError::call(part.name(), format!("do_step(t = {t}, h = {h})"), e)
+    };
+    let mut done = Vec::with_capacity(sys.participants.len());
+    for part in sys.participants.iter_mut() {
+        done.push(part.start_step(t, h).map_err(|e| named(part.as_ref(), e))?);
+    }
+    let mut discarded = None;
+    for (p, (part, status)) in sys.participants.iter_mut().zip(done).enumerate() {
+        let status = match status {
+            Some(s) => s,
+            None => part.finish_step().map_err(|e| named(part.as_ref(), e))?,
+        };
+        if status == StepStatus::Discard && discarded.is_none() {
+            discarded = Some(p);
+        }
+    }
+    Ok(discarded)
 }
 
 /// Saves the state of every participant into its rollback slot.

@@ -88,6 +88,20 @@ pub trait Participant {
     }
     /// Advance from `t` to `t + h`.
     fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError>;
+    /// Start [`Participant::do_step`]: `Some(status)` when the step is done now (the
+    /// default), `None` when it runs on while the master starts the others (a participant in
+    /// a process of its own), to be ended by [`Participant::finish_step`] before any other
+    /// call. The schemes that step participants on the same inputs start them all first.
+    fn start_step(&mut self, t: f64, h: f64) -> Result<Option<StepStatus>, CouplingError> {
+        self.do_step(t, h).map(Some)
+    }
+    /// End a step that [`Participant::start_step`] left running.
+    fn finish_step(&mut self) -> Result<StepStatus, CouplingError> {
+        Err(CouplingError::new(format!(
+            "{}: finish_step without a running step",
+            self.name()
+        )))
+    }
     /// Save the complete state into the participant's single rollback slot (overwriting).
     fn save_state(&mut self) -> Result<(), CouplingError>;
     /// Restore the state saved last by [`Participant::save_state`].

@@ -44,6 +44,15 @@ pub trait FmiCalls {
     fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<(), String>;
     /// `fmi2DoStep(t, h)`; `true` when the FMU discarded the step.
     fn do_step(&mut self, t: f64, h: f64) -> Result<bool, String>;
+    /// Start `fmi2DoStep(t, h)`: `Some(discarded)` when done now (the default), `None` when
+    /// it runs on (in a worker) until [`FmiCalls::finish_step`].
+    fn start_step(&mut self, t: f64, h: f64) -> Result<Option<bool>, String> {
+        self.do_step(t, h).map(Some)
+    }
+    /// End the step [`FmiCalls::start_step`] left running; `true` when discarded.
+    fn finish_step(&mut self) -> Result<bool, String> {
+        Err(format!("{}: no step is running", self.name()))
+    }
     /// `fmi2GetFMUstate` into the one slot.
     fn save_state(&mut self) -> Result<(), String>;
     /// `fmi2SetFMUstate` from the slot.
@@ -164,6 +173,15 @@ impl FmuParticipant {
     }
 }
 
+/// The coupling's status of a step that was (`true`) or was not discarded.
+fn status(discarded: bool) -> StepStatus {
+    if discarded {
+        StepStatus::Discard
+    } else {
+        StepStatus::Ok
+    }
+}
+
 impl Participant for FmuParticipant {
     fn name(&self) -> &str {
         self.calls.name()
@@ -179,10 +197,20 @@ impl Participant for FmuParticipant {
         true
     }
     fn do_step(&mut self, t: f64, h: f64) -> Result<StepStatus, CouplingError> {
-        match self.calls.do_step(t, h).map_err(CouplingError::new)? {
-            true => Ok(StepStatus::Discard),
-            false => Ok(StepStatus::Ok),
-        }
+        self.calls
+            .do_step(t, h)
+            .map(status)
+            .map_err(CouplingError::new)
+    }
+    fn start_step(&mut self, t: f64, h: f64) -> Result<Option<StepStatus>, CouplingError> {
+        let started = self.calls.start_step(t, h).map_err(CouplingError::new)?;
+        Ok(started.map(status))
+    }
+    fn finish_step(&mut self) -> Result<StepStatus, CouplingError> {
+        self.calls
+            .finish_step()
+            .map(status)
+            .map_err(CouplingError::new)
     }
     fn save_state(&mut self) -> Result<(), CouplingError> {
         self.calls.save_state().map_err(CouplingError::new)

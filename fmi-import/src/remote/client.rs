@@ -54,6 +54,8 @@ pub struct RemoteInstance {
     fetched: Option<Fetched>,
     /// Whether a step was the last call (so the next `fmi2GetReal` is "after the step").
     stepped: bool,
+    /// A step sent and not yet answered ([`FmiCalls::start_step`]).
+    running: Option<Op>,
 }
 
 impl RemoteInstance {
@@ -84,6 +86,7 @@ impl RemoteInstance {
             after_step: None,
             fetched: None,
             stepped: false,
+            running: None,
         };
         let path = fmu.to_string_lossy();
         remote.call(Out::op(Op::Load).str(&path).str(name))?;
@@ -97,7 +100,24 @@ impl RemoteInstance {
 
     /// Sends `msg`; for an operation with an answer, waits for it and returns its values.
     fn call(&mut self, msg: Out) -> Result<Vec<u8>, String> {
+        let op = self.send(msg)?;
+        if !op.replies() {
+            return Ok(Vec::new());
+        }
+        self.wait(op)
+    }
+
+    /// Sends `msg` (flushed when it is answered); its operation.
+    fn send(&mut self, msg: Out) -> Result<Op, String> {
         let op = Op::from_u8(msg.0[0]).expect("a known operation");
+        if let Some(running) = self.running {
+            return Err(format!(
+                "component \"{}\": {} while {} runs",
+                self.name,
+                op.call(),
+                running.call()
+            ));
+        }
         // anything sent after a step may change what it fetched
         self.fetched = None;
         self.stepped = false;
@@ -110,9 +130,11 @@ impl RemoteInstance {
         if !matches!(sent, Some(Ok(()))) {
             return Err(self.ended(op, None));
         }
-        if !op.replies() {
-            return Ok(Vec::new());
-        }
+        Ok(op)
+    }
+
+    /// Waits for the answer to `op`: its values, or the failure.
+    fn wait(&mut self, op: Op) -> Result<Vec<u8>, String> {
         let started = Instant::now();
         loop {
             match self.readable(Duration::from_millis(100)) {
@@ -335,20 +357,39 @@ impl FmiCalls for RemoteInstance {
         self.call(m).map(drop)
     }
     fn do_step(&mut self, t: f64, h: f64) -> Result<bool, String> {
+        match self.start_step(t, h)? {
+            Some(discarded) => Ok(discarded),
+            None => self.finish_step(),
+        }
+    }
+    /// Sends the step (asking for the outputs read after the step before) and returns at
+    /// once: the worker steps while the master goes on.
+    fn start_step(&mut self, t: f64, h: f64) -> Result<Option<bool>, String> {
         self.time = t;
-        let Some(vrs) = self.after_step.clone() else {
-            let bytes = self.call(Out::op(Op::DoStep).f64(t).f64(h))?;
-            self.stepped = true;
-            return Ok(In(&bytes).u8()? != 0);
+        let msg = match &self.after_step {
+            Some(vrs) => Out::op(Op::DoStepGet).f64(t).f64(h).u32s(vrs),
+            None => Out::op(Op::DoStep).f64(t).f64(h),
         };
-        let bytes = self.call(Out::op(Op::DoStepGet).f64(t).f64(h).u32s(&vrs))?;
+        let op = self.send(msg)?;
+        self.running = Some(op);
+        Ok(None)
+    }
+    fn finish_step(&mut self) -> Result<bool, String> {
+        let op = self
+            .running
+            .take()
+            .ok_or_else(|| format!("component \"{}\": no step is running", self.name))?;
+        let bytes = self.wait(op)?;
         let mut answer = In(&bytes);
         let discarded = answer.u8()? != 0;
-        let got = match answer.u8()? {
-            0 => Ok(answer.f64s()?),
-            _ => Err(answer.str()?),
-        };
-        self.fetched = Some((vrs, got));
+        if op == Op::DoStepGet {
+            let got = match answer.u8()? {
+                0 => Ok(answer.f64s()?),
+                _ => Err(answer.str()?),
+            };
+            let vrs = self.after_step.clone().expect("asked for these");
+            self.fetched = Some((vrs, got));
+        }
         self.stepped = true;
         Ok(discarded)
     }
