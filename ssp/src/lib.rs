@@ -33,7 +33,9 @@
 //! once as there are cores), then instantiated in order; every FMU enters initialisation
 //! mode, the parameter bindings (then `--set` values) are applied, and the connected values
 //! are exchanged until they no longer change (at most 50 rounds), so inputs start from the
-//! outputs they are connected to.
+//! outputs they are connected to. With [`wire_with`] and worker options, each FMU is
+//! instead described here (its library never loaded in this process) and instantiated in a
+//! worker process of its own ([`fmi_import::remote`]).
 
 pub mod open;
 pub mod read;
