@@ -33,6 +33,9 @@ pub struct WorkerOptions {
     pub cancelled: fn() -> bool,
 }
 
+/// How long the master looks for an answer before it sleeps until one comes.
+const SPIN: Duration = Duration::from_micros(200);
+
 /// Reals fetched with a step: their value references and values (or the failure of
 /// reading them).
 type Fetched = (Vec<u32>, Result<Vec<f64>, String>);
@@ -173,7 +176,17 @@ impl RemoteInstance {
             events: libc::POLLIN,
             revents: 0,
         };
-        // SAFETY: one valid pollfd for the duration of the call.
+        // most answers come within microseconds: look for a while before sleeping, as a
+        // sleeping process takes far longer to wake than the answer takes to come
+        let spin = Instant::now();
+        while spin.elapsed() < SPIN {
+            // SAFETY: one valid pollfd for the duration of the call.
+            if unsafe { libc::poll(&mut fd, 1, 0) } != 0 {
+                break;
+            }
+            std::hint::spin_loop();
+        }
+        // SAFETY: as above.
         let n = unsafe { libc::poll(&mut fd, 1, wait.as_millis() as libc::c_int) };
         match n {
             n if n > 0 => Ok(true),
