@@ -93,15 +93,7 @@ impl UnpackedDir {
     /// Remove the directories `{prefix}-{pid}-…` of the process `pid` (a worker that was
     /// ended or died) in the temporary directory.
     pub fn remove_of_process(prefix: &str, pid: u32) {
-        let Ok(entries) = fs::read_dir(std::env::temp_dir()) else {
-            return;
-        };
-        let head = format!("{prefix}-{pid}-");
-        for entry in entries.flatten() {
-            if entry.file_name().to_string_lossy().starts_with(&head) {
-                let _ = fs::remove_dir_all(entry.path());
-            }
-        }
+        remove_dirs(prefix, |p| p == pid);
     }
 
     /// Remove the directories `{prefix}-{pid}-…` in the temporary directory whose process
@@ -110,22 +102,27 @@ impl UnpackedDir {
         if !cfg!(target_os = "linux") {
             return;
         }
-        let Ok(entries) = fs::read_dir(std::env::temp_dir()) else {
-            return;
-        };
-        let head = format!("{prefix}-");
-        for entry in entries.flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
-            let Some(pid) = name
-                .strip_prefix(&head)
-                .and_then(|rest| rest.split('-').next())
-                .and_then(|p| p.parse::<u32>().ok())
-            else {
-                continue;
-            };
-            if pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists() {
-                let _ = fs::remove_dir_all(entry.path());
-            }
+        remove_dirs(prefix, |pid| {
+            pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists()
+        });
+    }
+}
+
+/// Remove the directories `{prefix}-{pid}-…` in the temporary directory whose `pid` is
+/// `chosen`.
+fn remove_dirs(prefix: &str, chosen: impl Fn(u32) -> bool) {
+    let Ok(entries) = fs::read_dir(std::env::temp_dir()) else {
+        return;
+    };
+    let head = format!("{prefix}-");
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let pid = name
+            .strip_prefix(&head)
+            .and_then(|rest| rest.split('-').next())
+            .and_then(|p| p.parse::<u32>().ok());
+        if pid.is_some_and(&chosen) {
+            let _ = fs::remove_dir_all(entry.path());
         }
     }
 }

@@ -194,12 +194,7 @@ fn instantiate_all(
         let (md, calls): (ModelDescription, Box<dyn FmiCalls>) = match (ready?, isolation) {
             (Ready::Loaded(fmu), _) => {
                 let inst = fmu
-                    .instantiate(&InstantiateOptions {
-                        instance_name: Some(c.name.clone()),
-                        visible: false,
-                        logging_on: false,
-                        echo_log: true,
-                    })
+                    .instantiate(&InstantiateOptions::component(&c.name))
                     .map_err(|e| e.to_string())?;
                 let md = fmu.model_description().clone();
                 (md, Box::new(LocalInstance::new(inst)))

@@ -83,6 +83,18 @@ pub struct InstantiateOptions {
     pub echo_log: bool,
 }
 
+impl InstantiateOptions {
+    /// A system component's instance: named, not visible, debug logging off, and what it
+    /// logs echoed to standard error as it comes (as `tbi cosim` runs its components).
+    pub fn component(name: &str) -> Self {
+        InstantiateOptions {
+            instance_name: Some(name.to_owned()),
+            echo_log: true,
+            ..Self::default()
+        }
+    }
+}
+
 impl Fmu {
     fn c_string(&self, value: &str, what: &str) -> Result<CString, FmiError> {
         CString::new(value).map_err(|_| FmiError::Unsupported {

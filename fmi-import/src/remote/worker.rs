@@ -92,12 +92,7 @@ fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<
         let name = msg.str()?;
         let fmu = Fmu::load(&path).map_err(|e| e.to_string())?;
         let inst = fmu
-            .instantiate(&InstantiateOptions {
-                instance_name: Some(name),
-                visible: false,
-                logging_on: false,
-                echo_log: true,
-            })
+            .instantiate(&InstantiateOptions::component(&name))
             .map_err(|e| e.to_string())?;
         *instance = Some(LocalInstance::new(inst));
         return Ok(Out::default());
