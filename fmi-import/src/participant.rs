@@ -57,6 +57,15 @@ pub trait FmiCalls {
     fn save_state(&mut self) -> Result<(), String>;
     /// `fmi2SetFMUstate` from the slot.
     fn restore_state(&mut self) -> Result<(), String>;
+    /// `fmi2DoStep(t, h)` with `noSetFMUStatePriorToCurrentPoint = fmi2True` (a run that
+    /// never rolls back, as `tbi simulate` and FMPy step); `true` when discarded.
+    fn do_step_final(&mut self, t: f64, h: f64) -> Result<bool, String>;
+    /// `fmi2GetBooleanStatus(fmi2Terminated)`: whether the FMU asked to end the run.
+    fn terminated(&mut self) -> Result<bool, String>;
+    /// `fmi2GetRealStatus(fmi2LastSuccessfulTime)`, s.
+    fn last_successful_time(&mut self) -> Result<f64, String>;
+    /// `fmi2Terminate`.
+    fn terminate(&mut self) -> Result<(), String>;
 }
 
 /// An instance in this process, with its rollback slot.
@@ -135,6 +144,19 @@ impl FmiCalls for LocalInstance {
             .as_ref()
             .ok_or_else(|| format!("{}: no saved state", self.inst.name()))?;
         self.inst.set_fmu_state(s).map(drop).map_err(text)
+    }
+    fn do_step_final(&mut self, t: f64, h: f64) -> Result<bool, String> {
+        let r = self.inst.do_step(t, h, true).map_err(text)?;
+        Ok(matches!(r, StepResult::Discard))
+    }
+    fn terminated(&mut self) -> Result<bool, String> {
+        self.inst.terminated().map_err(text)
+    }
+    fn last_successful_time(&mut self) -> Result<f64, String> {
+        self.inst.last_successful_time().map_err(text)
+    }
+    fn terminate(&mut self) -> Result<(), String> {
+        self.inst.terminate().map(drop).map_err(text)
     }
 }
 

@@ -35,14 +35,23 @@
 //! are exchanged until they no longer change (at most 50 rounds), so inputs start from the
 //! outputs they are connected to. With [`wire_with`] and worker options, each FMU is
 //! instead described here (its library never loaded in this process) and instantiated in a
-//! worker process of its own ([`fmi_import::remote`]).
+//! worker process of its own ([`fmi_import::remote`]), except a component that asks to run
+//! in the master's process (a trusted FMU, whose calls then cost no round trip):
+//!
+//! ```xml
+//! <ssd:Component name="bridge" source="resources/bridge.fmu" type="application/x-fmu-sharedlibrary">
+//!   <ssd:Annotations>
+//!     <ssc:Annotation type="org.tbi.process"><tbi:Process in_process="true"/></ssc:Annotation>
+//!   </ssd:Annotations>
+//! </ssd:Component>
+//! ```
 
 pub mod open;
 pub mod read;
 pub mod wire;
 
 pub use open::{open, open_exported, OpenSystem};
-pub use read::{parse_ssd, Component, RecordedOutput, Ssd, SspConnection};
+pub use read::{parse_ssd, parse_ssv, Component, RecordedOutput, Ssd, SspConnection};
 pub use wire::{exchanged_kind, wire, wire_with, Output, Wired};
 
 /// The folder of a system archive that holds its FMUs (its components' `source`), as
@@ -51,3 +60,6 @@ pub const SSP_FMU_FOLDER: &str = "resources/";
 
 /// The annotation type of the coupling options.
 pub const COUPLING_ANNOTATION: &str = "org.tbi.coupling";
+
+/// The annotation type of a component's process (`<tbi:Process in_process="true"/>`).
+pub const PROCESS_ANNOTATION: &str = "org.tbi.process";

@@ -2,7 +2,7 @@
 //! connections, parameter bindings, the default experiment and the coupling annotation,
 //! each malformed element refused with its line.
 
-use super::COUPLING_ANNOTATION;
+use super::{COUPLING_ANNOTATION, PROCESS_ANNOTATION};
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
@@ -40,6 +40,9 @@ pub struct Component {
     pub parameters: Vec<(String, String)>,
     /// `.ssv` files bound to the component.
     pub parameter_files: Vec<String>,
+    /// The component's process annotation (`<tbi:Process in_process="true"/>`): run its FMU
+    /// in the master's process even when the others run in workers. `None` when absent.
+    pub in_process: Option<bool>,
 }
 
 /// One `ssd:Connection`.
@@ -110,12 +113,40 @@ pub(crate) fn line_of(text: &str, pos: usize) -> usize {
     text[..pos.min(text.len())].matches('\n').count() + 1
 }
 
+/// A `<Component>` of `<Elements>`: only FMUs, named and with a source.
+fn component(e: &BytesStart<'_>) -> Result<Component, String> {
+    if let Some(t) = attr(e, "type").filter(|t| t != FMU_COMPONENT_TYPE) {
+        return Err(format!(
+            "component \"{}\" has type \"{t}\": only FMUs ({FMU_COMPONENT_TYPE}) are run; nested SSP packages and other component types are not supported",
+            attr(e, "name").unwrap_or_default()
+        ));
+    }
+    Ok(Component {
+        name: attr(e, "name").ok_or("<Component> has no name")?,
+        source: attr(e, "source").ok_or("<Component> has no source")?,
+        ..Default::default()
+    })
+}
+
+/// The `in_process` of a component's `<tbi:Process>`: `true` or `false`.
+fn process_flag(e: &BytesStart<'_>, component: &str) -> Result<bool, String> {
+    match attr(e, "in_process").as_deref() {
+        Some("true") => Ok(true),
+        Some("false") => Ok(false),
+        v => Err(format!(
+            "component \"{component}\": <tbi:Process in_process={}>: expected \"true\" or \"false\"",
+            v.map_or("(missing)".to_owned(), |v| format!("\"{v}\""))
+        )),
+    }
+}
+
 /// Parse SSD text; `origin` names it in messages (with the line).
 pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
     let mut r = Reader::from_str(xml);
     let mut ssd = Ssd::default();
     let mut stack: Vec<String> = Vec::new();
     let mut in_annotation = false;
+    let mut in_process_annotation = false;
     let mut parameter: Option<String> = None;
     let (mut root_seen, mut seen_system, mut seen_elements) = (false, false, false);
     loop {
@@ -142,19 +173,7 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
                         ssd.name = attr(e, "name").unwrap_or_default();
                     }
                     "Component" if inside("Elements") => {
-                        if let Some(t) = attr(e, "type").filter(|t| t != FMU_COMPONENT_TYPE) {
-                            return Err(at(format!(
-                                "component \"{}\" has type \"{t}\": only FMUs ({FMU_COMPONENT_TYPE}) are run; nested SSP packages and other component types are not supported",
-                                attr(e, "name").unwrap_or_default()
-                            )));
-                        }
-                        let c = Component {
-                            name: attr(e, "name")
-                                .ok_or_else(|| at("<Component> has no name".into()))?,
-                            source: attr(e, "source")
-                                .ok_or_else(|| at("<Component> has no source".into()))?,
-                            ..Default::default()
-                        };
+                        let c = component(e).map_err(at)?;
                         if ssd.components.iter().any(|o| o.name == c.name) {
                             return Err(at(format!("component \"{}\" is defined twice", c.name)));
                         }
@@ -188,6 +207,17 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
                     }
                     "Annotation" => {
                         in_annotation = attr(e, "type").as_deref() == Some(COUPLING_ANNOTATION);
+                        in_process_annotation =
+                            attr(e, "type").as_deref() == Some(PROCESS_ANNOTATION);
+                    }
+                    "Process"
+                        if in_process_annotation
+                            && inside("Component")
+                            && inside("Elements")
+                            && !ssd.components.is_empty() =>
+                    {
+                        let c = ssd.components.last_mut().expect("checked above");
+                        c.in_process = Some(process_flag(e, &c.name).map_err(at)?);
                     }
                     "Coupling" if in_annotation => ssd.coupling = attributes(e),
                     "Output" if in_annotation => {
@@ -227,7 +257,10 @@ pub fn parse_ssd(xml: &str, origin: &str) -> Result<Ssd, String> {
             Event::End(ref e) => {
                 let name = e.local_name().as_ref().to_owned();
                 match name.as_str() {
-                    "Annotation" => in_annotation = false,
+                    "Annotation" => {
+                        in_annotation = false;
+                        in_process_annotation = false;
+                    }
                     "Parameter" => parameter = None,
                     _ => {}
                 }
@@ -282,7 +315,7 @@ fn whole(origin: &str, root: bool, system: bool, elements: bool, ssd: &Ssd) -> R
 }
 
 /// Parameter values of an `.ssv` file (`ssv:ParameterSet`).
-pub(crate) fn parse_ssv(xml: &str, origin: &str) -> Result<Vec<(String, String)>, String> {
+pub fn parse_ssv(xml: &str, origin: &str) -> Result<Vec<(String, String)>, String> {
     let mut r = Reader::from_str(xml);
     loop {
         let pos = r.buffer_position() as usize;

@@ -83,6 +83,7 @@ enum Ready {
 fn load_all(open: &OpenSystem, isolated: bool) -> Vec<Result<Ready, String>> {
     let origin = &open.origin;
     let load = |c: &Component| -> Result<Ready, String> {
+        let isolated = isolated && c.in_process != Some(true);
         let path = open.base.join(&c.source);
         if !path.is_file() {
             return Err(format!(
@@ -130,7 +131,8 @@ pub fn wire(
 }
 
 /// [`wire`], each FMU in a worker process started with `isolation` when given (its
-/// library is never loaded in this process), else all in this process.
+/// library is never loaded in this process) unless its component's process annotation
+/// says `in_process="true"`; without `isolation`, all in this process.
 pub fn wire_with(
     open: &OpenSystem,
     sets: &[(String, String, String)],

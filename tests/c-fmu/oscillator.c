@@ -15,7 +15,9 @@
  *   -DNAN_AT=t             x becomes NaN once the time passes t (fmi2DoStep still OK)
  *   -DOMIT_GET_REAL_STATUS the library does not export fmi2GetRealStatus
  *   -DCRASH_AT=t           fmi2DoStep for a step ending after t ends the process or never
- *                          returns, by -DCRASH_HOW: 1 segfault, 2 abort(), 3 exit(0), 4 hang
+ *                          returns, by -DCRASH_HOW: 1 segfault (a write through NULL),
+ *                          2 abort(), 3 exit(0), 4 hang
+ *   -DCRASH_IN_INSTANTIATE fmi2Instantiate segfaults (a write through NULL)
  *
  * Value references: Real k=0 d=1 m=2 x0=3 F=4 x=5 v=6 a=7; Integer steps=0;
  * Boolean moving_right=0; String label=0.
@@ -126,6 +128,9 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     char path[4096], file[4200];
     FILE *fp;
     (void)visible; (void)loggingOn;
+#ifdef CRASH_IN_INSTANTIATE
+    *(volatile int *)0 = 0; /* a real fault, not a raised signal */
+#endif
     if (!functions || !functions->logger) return NULL;
     inst = (Instance *)calloc(1, sizeof(Instance));
     if (!inst) return NULL;
@@ -444,7 +449,7 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
 #ifdef CRASH_AT
     if (t_end > CRASH_AT) {
 #if CRASH_HOW == 1
-        raise(SIGSEGV);
+        *(volatile int *)0 = 0; /* a real fault, not a raised signal */
 #elif CRASH_HOW == 2
         abort();
 #elif CRASH_HOW == 3

@@ -31,10 +31,21 @@ pub struct WorkerOptions {
     pub timeout: Option<Duration>,
     /// Asked between waits: `true` ends the worker and fails the call (a signal arrived).
     pub cancelled: fn() -> bool,
+    /// Print the FMU's log messages to standard error as they come (messages of a failed
+    /// call are part of its error either way).
+    pub echo_log: bool,
 }
 
 /// How long the master looks for an answer before it sleeps until one comes.
 const SPIN: Duration = Duration::from_micros(200);
+
+/// The answers waited for by every worker of this process so far (for `tbi bench`).
+static ROUND_TRIPS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// How many answers this process has waited for from its workers so far: its round trips.
+pub fn round_trips() -> u64 {
+    ROUND_TRIPS.load(std::sync::atomic::Ordering::Relaxed)
+}
 
 /// Reals fetched with a step: their value references and values (or the failure of
 /// reading them).
@@ -43,6 +54,8 @@ type Fetched = (Vec<u32>, Result<Vec<f64>, String>);
 /// An FMU instance served by a worker process.
 pub struct RemoteInstance {
     name: String,
+    /// What messages call it: `component "NAME"` unless [`RemoteInstance::start_labelled`].
+    label: String,
     child: Child,
     to: Option<BufWriter<ChildStdin>>,
     from: BufReader<ChildStdout>,
@@ -59,11 +72,23 @@ pub struct RemoteInstance {
     stepped: bool,
     /// A step sent and not yet answered ([`FmiCalls::start_step`]).
     running: Option<Op>,
+    /// Whether steps are sent with `noSetFMUStatePriorToCurrentPoint` ([`FmiCalls::do_step_final`]).
+    last_steps: bool,
 }
 
 impl RemoteInstance {
     /// Starts a worker, which loads the FMU at `fmu` and instantiates it as `name`.
     pub fn start(fmu: &Path, name: &str, options: &WorkerOptions) -> Result<Self, String> {
+        Self::start_labelled(fmu, name, &format!("component \"{name}\""), options)
+    }
+
+    /// [`RemoteInstance::start`], messages calling the instance `label`.
+    pub fn start_labelled(
+        fmu: &Path,
+        name: &str,
+        label: &str,
+        options: &WorkerOptions,
+    ) -> Result<Self, String> {
         let mut child = Command::new(&options.program)
             .args(&options.args)
             .stdin(Stdio::piped())
@@ -72,7 +97,7 @@ impl RemoteInstance {
             .spawn()
             .map_err(|e| {
                 format!(
-                    "component \"{name}\": cannot start an FMU worker ({}): {e}",
+                    "{label}: cannot start an FMU worker ({}): {e}",
                     options.program.display()
                 )
             })?;
@@ -80,6 +105,7 @@ impl RemoteInstance {
         let to = child.stdin.take().map(BufWriter::new);
         let mut remote = RemoteInstance {
             name: name.to_owned(),
+            label: label.to_owned(),
             child,
             to,
             from,
@@ -90,9 +116,11 @@ impl RemoteInstance {
             fetched: None,
             stepped: false,
             running: None,
+            last_steps: false,
         };
         let path = fmu.to_string_lossy();
-        remote.call(Out::op(Op::Load).str(&path).str(name))?;
+        let echo = u8::from(options.echo_log);
+        remote.call(Out::op(Op::Load).str(&path).str(name).u8(echo))?;
         Ok(remote)
     }
 
@@ -115,8 +143,8 @@ impl RemoteInstance {
         let op = Op::from_u8(msg.0[0]).expect("a known operation");
         if let Some(running) = self.running {
             return Err(format!(
-                "component \"{}\": {} while {} runs",
-                self.name,
+                "{}: {} while {} runs",
+                self.label,
                 op.call(),
                 running.call()
             ));
@@ -138,6 +166,7 @@ impl RemoteInstance {
 
     /// Waits for the answer to `op`: its values, or the failure.
     fn wait(&mut self, op: Op) -> Result<Vec<u8>, String> {
+        ROUND_TRIPS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let started = Instant::now();
         loop {
             match self.readable(Duration::from_millis(100)) {
@@ -232,8 +261,8 @@ impl RemoteInstance {
         crate::archive::UnpackedDir::remove_of_process("tbi-fmu", self.child.id());
         self.to = None;
         let message = format!(
-            "component \"{}\": {how}, during {} at t = {} s",
-            self.name,
+            "{}: {how}, during {} at t = {} s",
+            self.label,
             op.call(),
             self.time
         );
@@ -379,9 +408,10 @@ impl FmiCalls for RemoteInstance {
     /// once: the worker steps while the master goes on.
     fn start_step(&mut self, t: f64, h: f64) -> Result<Option<bool>, String> {
         self.time = t;
+        let last = u8::from(self.last_steps);
         let msg = match &self.after_step {
-            Some(vrs) => Out::op(Op::DoStepGet).f64(t).f64(h).u32s(vrs),
-            None => Out::op(Op::DoStep).f64(t).f64(h),
+            Some(vrs) => Out::op(Op::DoStepGet).f64(t).f64(h).u8(last).u32s(vrs),
+            None => Out::op(Op::DoStep).f64(t).f64(h).u8(last),
         };
         let op = self.send(msg)?;
         self.running = Some(op);
@@ -391,7 +421,7 @@ impl FmiCalls for RemoteInstance {
         let op = self
             .running
             .take()
-            .ok_or_else(|| format!("component \"{}\": no step is running", self.name))?;
+            .ok_or_else(|| format!("{}: no step is running", self.label))?;
         let bytes = self.wait(op)?;
         let mut answer = In(&bytes);
         let discarded = answer.u8()? != 0;
@@ -411,5 +441,22 @@ impl FmiCalls for RemoteInstance {
     }
     fn restore_state(&mut self) -> Result<(), String> {
         self.call(Out::op(Op::RestoreState)).map(drop)
+    }
+    fn do_step_final(&mut self, t: f64, h: f64) -> Result<bool, String> {
+        self.last_steps = true;
+        let discarded = self.do_step(t, h);
+        self.last_steps = false;
+        discarded
+    }
+    fn terminated(&mut self) -> Result<bool, String> {
+        let bytes = self.call(Out::op(Op::Terminated))?;
+        Ok(In(&bytes).u8()? != 0)
+    }
+    fn last_successful_time(&mut self) -> Result<f64, String> {
+        let bytes = self.call(Out::op(Op::LastSuccessfulTime))?;
+        In(&bytes).f64()
+    }
+    fn terminate(&mut self) -> Result<(), String> {
+        self.call(Out::op(Op::Terminate)).map(drop)
     }
 }

@@ -9,5 +9,5 @@ mod client;
 pub mod protocol;
 mod worker;
 
-pub use client::{RemoteInstance, WorkerOptions};
+pub use client::{round_trips, RemoteInstance, WorkerOptions};
 pub use worker::serve;

@@ -10,7 +10,7 @@ use std::io::{self, Read, Write};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Op {
-    /// path, instance name → (reply)
+    /// path, instance name, echo the FMU's log (u8) → (reply)
     Load = 1,
     /// tolerance (flag + f64), start, stop (flag + f64)
     SetupExperiment = 2,
@@ -30,15 +30,21 @@ pub enum Op {
     GetBoolean = 10,
     /// vrs, strings
     SetString = 11,
-    /// t, h → discarded (u8)
+    /// t, h, noSetFMUStatePriorToCurrentPoint (u8) → discarded (u8)
     DoStep = 12,
     /// no reply (as the setters)
     SaveState = 13,
     /// no reply (as the setters)
     RestoreState = 14,
-    /// t, h, vrs → discarded (u8), then the Reals of `vrs` after the step: `0` and the
-    /// values, or `1` and the message of their `fmi2GetReal`'s failure
+    /// t, h, noSetFMUStatePriorToCurrentPoint (u8), vrs → discarded (u8), then the Reals
+    /// of `vrs` after the step: `0` and the values, or `1` and the message of their
+    /// `fmi2GetReal`'s failure
     DoStepGet = 15,
+    /// → terminated (u8)
+    Terminated = 16,
+    /// → last successful time (f64)
+    LastSuccessfulTime = 17,
+    Terminate = 18,
 }
 
 impl Op {
@@ -60,6 +66,9 @@ impl Op {
             13 => SaveState,
             14 => RestoreState,
             15 => DoStepGet,
+            16 => Terminated,
+            17 => LastSuccessfulTime,
+            18 => Terminate,
             _ => return None,
         })
     }
@@ -90,6 +99,9 @@ impl Op {
             DoStep | DoStepGet => "fmi2DoStep",
             SaveState => "fmi2GetFMUstate",
             RestoreState => "fmi2SetFMUstate",
+            Terminated => "fmi2GetBooleanStatus(fmi2Terminated)",
+            LastSuccessfulTime => "fmi2GetRealStatus(fmi2LastSuccessfulTime)",
+            Terminate => "fmi2Terminate",
         }
     }
 }

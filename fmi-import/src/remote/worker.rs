@@ -90,10 +90,13 @@ fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<
     if op == Op::Load {
         let path = msg.str()?;
         let name = msg.str()?;
+        let echo_log = msg.u8()? != 0;
         let fmu = Fmu::load(&path).map_err(|e| e.to_string())?;
-        let inst = fmu
-            .instantiate(&InstantiateOptions::component(&name))
-            .map_err(|e| e.to_string())?;
+        let options = InstantiateOptions {
+            echo_log,
+            ..InstantiateOptions::component(&name)
+        };
+        let inst = fmu.instantiate(&options).map_err(|e| e.to_string())?;
         *instance = Some(LocalInstance::new(inst));
         return Ok(Out::default());
     }
@@ -139,12 +142,13 @@ fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<
             inst.set_string(&vrs, &refs).map(|()| none)
         }
         Op::DoStep => {
-            let (t, h) = (msg.f64()?, msg.f64()?);
-            inst.do_step(t, h).map(|d| none.u8(u8::from(d)))
+            let (t, h, last) = (msg.f64()?, msg.f64()?, msg.u8()? != 0);
+            step(inst, t, h, last).map(|d| none.u8(u8::from(d)))
         }
         Op::DoStepGet => {
-            let (t, h, vrs) = (msg.f64()?, msg.f64()?, msg.u32s()?);
-            let discarded = inst.do_step(t, h)?;
+            let (t, h, last) = (msg.f64()?, msg.f64()?, msg.u8()? != 0);
+            let vrs = msg.u32s()?;
+            let discarded = step(inst, t, h, last)?;
             let mut v = vec![0.0; vrs.len()];
             let reply = none.u8(u8::from(discarded));
             Ok(match inst.get_real(&vrs, &mut v) {
@@ -154,5 +158,17 @@ fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<
         }
         Op::SaveState => inst.save_state().map(|()| none),
         Op::RestoreState => inst.restore_state().map(|()| none),
+        Op::Terminated => inst.terminated().map(|t| none.u8(u8::from(t))),
+        Op::LastSuccessfulTime => inst.last_successful_time().map(|t| none.f64(t)),
+        Op::Terminate => inst.terminate().map(|()| none),
+    }
+}
+
+/// `fmi2DoStep`, with `noSetFMUStatePriorToCurrentPoint` set when `last`.
+fn step(inst: &mut LocalInstance, t: f64, h: f64, last: bool) -> Result<bool, String> {
+    if last {
+        inst.do_step_final(t, h)
+    } else {
+        inst.do_step(t, h)
     }
 }

@@ -2,7 +2,7 @@
 //! step (`Inputs`, FMPy's `Input` class: interpolation, discrete holds and event times).
 
 use super::{isclose, SimulateError};
-use crate::{FmiError, Instance};
+use crate::FmiCalls;
 use model_description::{Causality, ModelDescription, Variability, VariableKind};
 use std::path::Path;
 
@@ -278,10 +278,10 @@ impl<'a> Inputs<'a> {
     /// Set the inputs at `time` (continuous Reals first, then discrete groups by type).
     pub(super) fn apply(
         &self,
-        instance: &mut Instance,
+        instance: &mut dyn FmiCalls,
         time: f64,
         after_event: bool,
-    ) -> Result<(), FmiError> {
+    ) -> Result<(), SimulateError> {
         let Some(table) = self.table else {
             return Ok(());
         };
@@ -298,22 +298,30 @@ impl<'a> Inputs<'a> {
         };
         let (vrs, values) = collect(InputKind::ContinuousReal);
         if !vrs.is_empty() {
-            instance.set_real(&vrs, &values)?;
+            instance
+                .set_real(&vrs, &values)
+                .map_err(SimulateError::Call)?;
         }
         let (vrs, values) = collect(InputKind::DiscreteReal);
         if !vrs.is_empty() {
-            instance.set_real(&vrs, &values)?;
+            instance
+                .set_real(&vrs, &values)
+                .map_err(SimulateError::Call)?;
         }
         let (vrs, values) = collect(InputKind::Integer);
         if !vrs.is_empty() {
             // numpy's float → int32 conversion truncates toward zero
             let ints: Vec<i32> = values.iter().map(|&v| v as i32).collect();
-            instance.set_integer(&vrs, &ints)?;
+            instance
+                .set_integer(&vrs, &ints)
+                .map_err(SimulateError::Call)?;
         }
         let (vrs, values) = collect(InputKind::Boolean);
         if !vrs.is_empty() {
             let bools: Vec<bool> = values.iter().map(|&v| v as i32 != 0).collect();
-            instance.set_boolean(&vrs, &bools)?;
+            instance
+                .set_boolean(&vrs, &bools)
+                .map_err(SimulateError::Call)?;
         }
         Ok(())
     }

@@ -37,6 +37,11 @@
 //!   too (FMPy would retry the same step forever): the rows so far are written and the
 //!   command fails, saying so.
 //!
+//! With [`simulate_isolated_into`] the FMU runs in a worker process
+//! ([`crate::remote`]): its library is never loaded by the caller, and a crash, an `exit`
+//! or a hang past the time limit ends the worker with a [`SimulateError::Call`] naming the
+//! call and the time, after the rows computed before were written.
+//!
 //! Deliberate differences from FMPy's command line: `--set` names a variable per option
 //! (`--set k=2`) and an unknown or unsettable name is an error (FMPy ignores it); the
 //! result file defaults to `<FMU file stem>_out.csv` in the working directory (the FMI
@@ -44,8 +49,8 @@
 //! writes to standard output; a NaN or infinite Real is an error naming the variable.
 //!
 //! The module holds the types of a run and FMPy's number helpers; the run itself is in
-//! its submodules: `run` (the options, [`simulate`], [`simulate_into`] and the stepping
-//! loop), `input` ([`InputTable`] and how inputs are applied), `start_values` (`--set`),
+//! its submodules: `run` (the options, [`simulate`], [`simulate_into`],
+//! [`simulate_isolated_into`] and the stepping loop), `input` ([`InputTable`] and how inputs are applied), `start_values` (`--set`),
 //! `record` (the recorded variables) and `csv` (the CSV layout, [`python_float_repr`]).
 
 mod csv;
@@ -56,7 +61,7 @@ mod start_values;
 
 pub use csv::python_float_repr;
 pub use input::InputTable;
-pub use run::{simulate, simulate_into, SimulationOptions, MAX_STEPS};
+pub use run::{simulate, simulate_into, simulate_isolated_into, SimulationOptions, MAX_STEPS};
 
 use crate::FmiError;
 use std::io;
@@ -69,6 +74,11 @@ pub enum SimulateError {
     /// Invalid arguments or inputs (the message names the option, file or variable).
     #[error("{0}")]
     Invalid(String),
+    /// An FMI call failed, in this process or in the FMU's worker (which may have crashed,
+    /// exited, hung past the time limit or been ended by a signal); the message names the
+    /// FMU, the call and, for a worker, the time.
+    #[error("{0}")]
+    Call(String),
     #[error("{path}: {error}")]
     Io { path: String, error: io::Error },
     /// The FMU discarded a step without asking to terminate; the rows up to `time` were

@@ -2,8 +2,8 @@
 //! initialisation and after every step.
 
 use super::csv::write_row;
-use super::Value;
-use crate::{FmiError, Instance};
+use super::{SimulateError, Value};
+use crate::FmiCalls;
 use model_description::{ModelDescription, ScalarVariable, VariableKind};
 use std::io::Write;
 
@@ -75,27 +75,36 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    pub(super) fn sample(&mut self, instance: &mut Instance, time: f64) -> Result<(), FmiError> {
+    pub(super) fn sample(
+        &mut self,
+        instance: &mut dyn FmiCalls,
+        time: f64,
+    ) -> Result<(), SimulateError> {
         let mut row = Vec::with_capacity(self.columns.len() - 1);
         if !self.reals.is_empty() {
             let mut values = vec![0.0; self.reals.len()];
-            instance.get_real(&self.reals, &mut values)?;
+            instance
+                .get_real(&self.reals, &mut values)
+                .map_err(SimulateError::Call)?;
             row.extend(values.into_iter().map(Value::Real));
         }
         if !self.integers.is_empty() {
             let mut values = vec![0; self.integers.len()];
-            instance.get_integer(&self.integers, &mut values)?;
+            instance
+                .get_integer(&self.integers, &mut values)
+                .map_err(SimulateError::Call)?;
             row.extend(values.into_iter().map(Value::Integer));
         }
         if !self.booleans.is_empty() {
             let mut values = vec![false; self.booleans.len()];
-            instance.get_boolean(&self.booleans, &mut values)?;
+            instance
+                .get_boolean(&self.booleans, &mut values)
+                .map_err(SimulateError::Call)?;
             row.extend(values.into_iter().map(Value::Boolean));
         }
         match self.sink.as_mut() {
-            Some(out) => write_row(out, time, &row).map_err(|e| FmiError::Unsupported {
-                fmu: String::new(),
-                message: format!("cannot write the result row at t = {time}: {e}"),
+            Some(out) => write_row(out, time, &row).map_err(|e| {
+                SimulateError::Invalid(format!("cannot write the result row at t = {time}: {e}"))
             })?,
             None => self.rows.push((time, row)),
         }

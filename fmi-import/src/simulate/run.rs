@@ -11,8 +11,12 @@ use super::start_values::{
     apply_start_values, settable_in_initialization_mode, settable_in_instantiated,
 };
 use super::{auto_interval, isclose, RunEnd, SimulateError, SimulationResult};
-use crate::{Fmu, InstantiateOptions, StepResult};
+use crate::archive::fmu_display_name;
+use crate::remote::{RemoteInstance, WorkerOptions};
+use crate::{FmiCalls, Fmu, InstantiateOptions, LocalInstance};
+use model_description::ModelDescription;
 use std::io::Write;
+use std::path::Path;
 use std::sync::Arc;
 
 /// Most communication steps of one run.
@@ -41,7 +45,7 @@ pub fn simulate(
     fmu: &Arc<Fmu>,
     options: &SimulationOptions,
 ) -> Result<SimulationResult, SimulateError> {
-    run(fmu, options, None)
+    in_process(fmu, options, None)
 }
 
 /// Run `fmu` once, writing the CSV (header, then each row as it is sampled) to `out`, so
@@ -51,21 +55,74 @@ pub fn simulate_into(
     options: &SimulationOptions,
     out: &mut dyn Write,
 ) -> Result<SimulationResult, SimulateError> {
-    run(fmu, options, Some(out))
+    in_process(fmu, options, Some(out))
 }
 
-fn run(
+/// [`simulate_into`] for the FMU at `path` run in a worker process started with `worker`
+/// (its library is never loaded in this process): a crash, an `exit` or a hang past the
+/// time limit fails the run after the rows computed before were written to `out`.
+pub fn simulate_isolated_into(
+    path: &Path,
+    worker: &WorkerOptions,
+    options: &SimulationOptions,
+    out: &mut dyn Write,
+) -> Result<SimulationResult, SimulateError> {
+    let md = Fmu::describe(path)?;
+    let name = fmu_display_name(path);
+    let instantiate = || -> Result<Box<dyn FmiCalls>, SimulateError> {
+        let identifier = &md
+            .co_simulation
+            .as_ref()
+            .expect("described")
+            .model_identifier;
+        let worker = WorkerOptions {
+            echo_log: options.echo_log,
+            ..worker.clone()
+        };
+        let remote = RemoteInstance::start_labelled(path, identifier, &name, &worker)
+            .map_err(SimulateError::Call)?;
+        Ok(Box::new(remote))
+    };
+    run(&md, &name, &instantiate, options, Some(out))
+}
+
+fn in_process(
     fmu: &Arc<Fmu>,
     options: &SimulationOptions,
     out: Option<&mut dyn Write>,
 ) -> Result<SimulationResult, SimulateError> {
-    let md = fmu.model_description();
+    let instantiate = || -> Result<Box<dyn FmiCalls>, SimulateError> {
+        let inst = fmu.instantiate(&InstantiateOptions {
+            echo_log: options.echo_log,
+            ..InstantiateOptions::default()
+        })?;
+        Ok(Box::new(LocalInstance::new(inst)))
+    };
+    run(
+        fmu.model_description(),
+        fmu.name(),
+        &instantiate,
+        options,
+        out,
+    )
+}
+
+/// Where a run's instance comes from (in this process or in a worker).
+type Instantiate<'a> = dyn Fn() -> Result<Box<dyn FmiCalls>, SimulateError> + 'a;
+
+fn run(
+    md: &ModelDescription,
+    name: &str,
+    instantiate: &Instantiate,
+    options: &SimulationOptions,
+    out: Option<&mut dyn Write>,
+) -> Result<SimulationResult, SimulateError> {
     let cs = md
         .co_simulation
         .as_ref()
-        .expect("Fmu::load accepts only Co-Simulation FMUs");
+        .expect("Fmu::load and Fmu::describe accept only Co-Simulation FMUs");
     let experiment = md.default_experiment.clone().unwrap_or_default();
-    let invalid = |m: String| SimulateError::Invalid(format!("{}: {m}", fmu.name()));
+    let invalid = |m: String| SimulateError::Invalid(format!("{name}: {m}"));
 
     let start_time = options.start_time.or(experiment.start_time).unwrap_or(0.0);
     let stop_time = options
@@ -117,21 +174,15 @@ fn run(
     }
     let inputs = Inputs::new(md, options.input.as_ref())?;
 
-    let mut instance = fmu.instantiate(&InstantiateOptions {
-        echo_log: options.echo_log,
-        ..InstantiateOptions::default()
-    })?;
+    let mut boxed = instantiate()?;
+    let instance = boxed.as_mut();
+    let call = SimulateError::Call;
 
     let mut time = start_time;
-    instance.setup_experiment(tolerance, time, Some(stop_time))?;
-    apply_start_values(&mut instance, md, &mut pending, settable_in_instantiated)?;
-    instance.enter_initialization_mode()?;
-    apply_start_values(
-        &mut instance,
-        md,
-        &mut pending,
-        settable_in_initialization_mode,
-    )?;
+    (instance.setup_experiment(tolerance, time, Some(stop_time))).map_err(call)?;
+    apply_start_values(instance, md, &mut pending, settable_in_instantiated)?;
+    instance.enter_initialization_mode().map_err(call)?;
+    apply_start_values(instance, md, &mut pending, settable_in_initialization_mode)?;
     if let Some((name, _)) = pending.first() {
         let v = md.variable(name).expect("checked above");
         return Err(invalid(format!(
@@ -139,8 +190,8 @@ fn run(
             v.causality, v.variability
         )));
     }
-    inputs.apply(&mut instance, time, false)?;
-    instance.exit_initialization_mode()?;
+    inputs.apply(instance, time, false)?;
+    instance.exit_initialization_mode().map_err(call)?;
 
     let mut recorder = Recorder::new(md, out);
     if let Some(sink) = recorder.sink.as_mut() {
@@ -149,7 +200,7 @@ fn run(
             error,
         })?;
     }
-    recorder.sample(&mut instance, time)?;
+    recorder.sample(instance, time)?;
 
     let mut end = RunEnd::Completed;
     let mut n_steps: u64 = 0;
@@ -174,13 +225,13 @@ fn run(
                 break;
             }
         }
-        inputs.apply(&mut instance, time, true)?;
-        match instance.do_step(time, next - time, true)? {
-            StepResult::Ok | StepResult::Warning => time = next,
-            StepResult::Discard => {
-                if instance.terminated()? {
-                    time = instance.last_successful_time()?;
-                    recorder.sample(&mut instance, time)?;
+        inputs.apply(instance, time, true)?;
+        match instance.do_step_final(time, next - time).map_err(call)? {
+            false => time = next,
+            true => {
+                if instance.terminated().map_err(call)? {
+                    time = instance.last_successful_time().map_err(call)?;
+                    recorder.sample(instance, time)?;
                     end = RunEnd::Terminated { time };
                 } else {
                     end = RunEnd::Discarded { time };
@@ -188,12 +239,12 @@ fn run(
                 break;
             }
         }
-        recorder.sample(&mut instance, time)?;
+        recorder.sample(instance, time)?;
         if isclose(time, next_regular) {
             n_steps += 1;
         }
     }
-    instance.terminate()?;
+    instance.terminate().map_err(call)?;
     Ok(SimulationResult {
         columns: recorder.columns,
         rows: recorder.rows,

@@ -2,7 +2,7 @@
 //! mode, and setting them from their text.
 
 use super::SimulateError;
-use crate::Instance;
+use crate::FmiCalls;
 use model_description::{
     Causality, Initial, ModelDescription, ScalarVariable, Variability, VariableKind,
 };
@@ -27,7 +27,7 @@ pub(super) fn settable_in_initialization_mode(v: &ScalarVariable) -> bool {
 
 /// Set the start values whose variables pass `settable`; remove them from `pending`.
 pub(super) fn apply_start_values(
-    instance: &mut Instance,
+    instance: &mut dyn FmiCalls,
     md: &ModelDescription,
     pending: &mut Vec<(String, String)>,
     settable: fn(&ScalarVariable) -> bool,
@@ -49,11 +49,13 @@ pub(super) fn apply_start_values(
                 let x: f64 = (text.parse().ok())
                     .filter(|x: &f64| x.is_finite())
                     .ok_or_else(|| bad("a finite number"))?;
-                instance.set_real(&vr, &[x])?;
+                instance.set_real(&vr, &[x]).map_err(SimulateError::Call)?;
             }
             VariableKind::Integer(_) | VariableKind::Enumeration(_) => {
                 let i: i32 = text.parse().map_err(|_| bad("a 32-bit integer"))?;
-                instance.set_integer(&vr, &[i])?;
+                instance
+                    .set_integer(&vr, &[i])
+                    .map_err(SimulateError::Call)?;
             }
             VariableKind::Boolean(_) => {
                 let b = match text.to_ascii_lowercase().as_str() {
@@ -61,10 +63,14 @@ pub(super) fn apply_start_values(
                     "false" => false,
                     _ => return Err(bad("true or false")),
                 };
-                instance.set_boolean(&vr, &[b])?;
+                instance
+                    .set_boolean(&vr, &[b])
+                    .map_err(SimulateError::Call)?;
             }
             VariableKind::String(_) => {
-                instance.set_string(&vr, &[text.as_str()])?;
+                instance
+                    .set_string(&vr, &[text.as_str()])
+                    .map_err(SimulateError::Call)?;
             }
         }
     }

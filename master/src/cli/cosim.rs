@@ -103,38 +103,6 @@ pub struct CosimArgs {
     pub fmu_timeout: Option<f64>,
 }
 
-/// How `tbi cosim` isolates the FMUs: none with `--in-process`, else a worker process per
-/// FMU running this executable's `fmu-worker`.
-fn isolation(args: &CosimArgs) -> Result<Option<fmi_import::remote::WorkerOptions>, String> {
-    let timeout = match args.fmu_timeout {
-        None => None,
-        Some(s) if s.is_finite() && s > 0.0 && s <= 1e9 => {
-            Some(std::time::Duration::from_secs_f64(s))
-        }
-        Some(s) => {
-            return Err(format!(
-                "--fmu-timeout {s}: expected a positive number of seconds"
-            ))
-        }
-    };
-    if args.in_process {
-        if timeout.is_some() {
-            return Err(
-                "--fmu-timeout needs the FMUs in worker processes; drop --in-process".into(),
-            );
-        }
-        return Ok(None);
-    }
-    let program = std::env::current_exe()
-        .map_err(|e| format!("cannot find the tbi executable for the FMU workers: {e}"))?;
-    Ok(Some(fmi_import::remote::WorkerOptions {
-        program,
-        args: vec!["fmu-worker".into()],
-        timeout,
-        cancelled: crate::interrupt::interrupted,
-    }))
-}
-
 /// The size an explicit scheme's interface defect may reach, relative to the values, before
 /// `tbi cosim` suggests the implicit scheme: 1e-3 (0.1 %).
 pub const EXPLICIT_DEFECT_NOTICE: f64 = 1e-3;
@@ -149,7 +117,7 @@ pub fn main(args: CosimArgs) -> Result<(), Box<dyn std::error::Error>> {
     let open = tbi_ssp::open(&args.system)?;
     let (cfg, annotated_step) = coupling(&args, &open)?;
     let (start, stop, h, steps, every) = timing(&args, &open, annotated_step)?;
-    let isolation = isolation(&args)?;
+    let isolation = super::workers::options(args.in_process, args.fmu_timeout)?;
     let mut wired = tbi_ssp::wire_with(
         &open,
         &parameter_sets(&args)?,

@@ -1,5 +1,6 @@
 //! The commands, one file each: the command line's arguments turned into library calls and
-//! what is printed. No command calls another's `main`.
+//! what is printed. No command calls another's `main`; `workers` holds the FMU worker
+//! options `cosim` and `simulate` share.
 
 pub mod bench;
 pub mod cosim;
@@ -9,3 +10,4 @@ pub mod run;
 pub mod simulate;
 pub mod sweep;
 pub mod validate;
+pub mod workers;

@@ -1,8 +1,12 @@
 //! `tbi simulate`: run one FMI 2.0 Co-Simulation FMU alone, with the runner of
-//! [`fmi_import::simulate`] (its docs list the defaults, which are `fmpy simulate`'s).
+//! [`fmi_import::simulate`] (its docs list the defaults, which are `fmpy simulate`'s), in a
+//! worker process of its own unless `--in-process` is given.
 
+use fmi_import::archive::fmu_display_name;
+use fmi_import::remote::WorkerOptions;
 use fmi_import::simulate::{
-    simulate_into, InputTable, RunEnd, SimulateError, SimulationOptions, SimulationResult,
+    simulate_into, simulate_isolated_into, InputTable, RunEnd, SimulateError, SimulationOptions,
+    SimulationResult,
 };
 use fmi_import::Fmu;
 use std::io::{self, Write};
@@ -40,6 +44,35 @@ pub struct SimulateArgs {
     /// Do not print the FMU's log messages (errors still carry them).
     #[arg(long)]
     pub quiet: bool,
+    /// Load the FMU into this process instead of a worker process of its own (faster
+    /// calls; an FMU that crashes or exits then ends `tbi` with it).
+    #[arg(long)]
+    pub in_process: bool,
+    /// Longest wall time of one FMI call, s: a call that takes longer ends the FMU's worker
+    /// and fails the run, naming the call and the time. Default: no limit. Needs the worker
+    /// (not with --in-process).
+    #[arg(long, value_name = "SECONDS")]
+    pub fmu_timeout: Option<f64>,
+}
+
+/// The FMU, loaded here (`--in-process`) or to be run by a worker.
+enum Runner {
+    Here(std::sync::Arc<Fmu>),
+    Worker(WorkerOptions),
+}
+
+impl Runner {
+    fn simulate_into(
+        &self,
+        path: &Path,
+        options: &SimulationOptions,
+        out: &mut dyn Write,
+    ) -> Result<SimulationResult, SimulateError> {
+        match self {
+            Runner::Here(fmu) => simulate_into(fmu, options, out),
+            Runner::Worker(worker) => simulate_isolated_into(path, worker, options, out),
+        }
+    }
 }
 
 /// Entry point of `tbi simulate` (the error type is the one all `tbi` subcommands share).
@@ -49,7 +82,13 @@ pub fn main(args: SimulateArgs) -> Result<(), Box<dyn std::error::Error>> {
 
 /// `tbi simulate` with its own error type.
 pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
-    let fmu = Fmu::load(&args.fmu)?;
+    let runner = match super::workers::options(args.in_process, args.fmu_timeout)
+        .map_err(SimulateError::Invalid)?
+    {
+        None => Runner::Here(Fmu::load(&args.fmu)?),
+        Some(worker) => Runner::Worker(worker),
+    };
+    let fmu_name = fmu_display_name(&args.fmu);
     let input = args
         .input
         .as_deref()
@@ -82,7 +121,7 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
         output_name = "standard output".to_owned();
         let stdout = io::stdout();
         let mut lock = stdout.lock();
-        result = simulate_into(&fmu, &options, &mut lock)?;
+        result = runner.simulate_into(&args.fmu, &options, &mut lock)?;
     } else {
         let path = args.output.clone().unwrap_or_else(|| {
             let stem = args
@@ -100,7 +139,7 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
         crate::output::outdir::refuse_inputs(&[path.clone(), partial.clone()], &inputs)
             .map_err(SimulateError::Invalid)?;
         let mut sink = LazyFile::new(&partial);
-        let run = simulate_into(&fmu, &options, &mut sink);
+        let run = runner.simulate_into(&args.fmu, &options, &mut sink);
         let io_error = |error| SimulateError::Io {
             path: partial.display().to_string(),
             error,
@@ -138,19 +177,19 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
             if !args.quiet {
                 eprintln!(
                     "tbi: {}: the FMU requested termination at t={time}; the simulation ended there",
-                    fmu.name()
+                    fmu_name
                 );
             }
             Ok(())
         }
         RunEnd::Discarded { time } => Err(SimulateError::Discarded {
-            fmu: fmu.name().to_owned(),
+            fmu: fmu_name.to_owned(),
             time,
             output: output_name,
         }),
         RunEnd::Stopped { time } => Err(SimulateError::Invalid(format!(
             "{}: interrupted by a signal at t={time}; the rows up to there are in {output_name}",
-            fmu.name()
+            fmu_name
         ))),
     }
 }
@@ -180,8 +219,8 @@ impl Write for LazyFile<'_> {
         }
         let f = self.file.as_mut().expect("opened above");
         let n = f.write(buf)?;
-        // each row reaches the file as it ends: an FMU that ends the process (tbi simulate
-        // runs it in process) leaves every row computed before in the .partial file
+        // each row reaches the file as it ends: an FMU that ends the process (with
+        // --in-process) leaves every row computed before in the .partial file
         if buf[..n].ends_with(b"\n") {
             f.flush()?;
         }
