@@ -4,7 +4,9 @@
 //!    supported, vertical, lateral and torsional modes, track off the shear centre) at
 //!    70 km/h with dt = 0.005 s: wall time, steps per second, simulated/wall time.
 //! 2. The same case by implicit co-simulation of the two FMUs: wall time over the
-//!    monolithic wall time.
+//!    monolithic wall time; then its exported system as `tbi cosim` runs it, each FMU in
+//!    a worker process against both in process (alternating, the fastest of each): the
+//!    wall-time ratio, the round trips per step and the cost of each.
 //! 3. The scale case: the Tsing Ma finite-element model's lowest 200 modes under 32 coaches
 //!    (128 wheelsets) at 70 km/h with dt = 0.005 s, the track and coupling of the bench case,
 //!    both solvers, simulated/wall time (the modes computed before the clock starts; item 5
@@ -28,6 +30,7 @@
 //!
 //! `--quick` runs 1 and 2 only. `--json FILE` writes every figure measured under the stable
 //! names `monolithic_realtime_factor`, `cosim_realtime_factor`, `cosim_over_monolithic`,
+//! `isolated_over_in_process`, `isolated_round_trips_per_step`, `isolated_round_trip_us`,
 //! `cosim_iterations_per_step`, `cosim_steps_by_iterations` (entry k: the bench case's steps
 //! that took k + 1 sweeps), `scale_monolithic_realtime_factor`,
 //! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
@@ -179,6 +182,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     let load_before = load_average();
     let mut figures = serde_json::Map::new();
     default_case(&args, &mut figures)?;
+    isolated_case(&args, &mut figures)?;
     if args.quick {
         return write_figures(&args, figures, load_before);
     }
@@ -276,6 +280,53 @@ fn default_case(args: &BenchArgs, figures: &mut Figures) -> Result<(), Box<dyn s
         "cosim_steps_by_iterations".into(),
         serde_json::to_value(by)?,
     );
+    Ok(())
+}
+
+/// The bench case's exported system as `tbi cosim` runs it (wiring included), each FMU in
+/// a worker process against both in process, `args.repeat` times alternating.
+fn isolated_case(
+    args: &BenchArgs,
+    figures: &mut Figures,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::solve::system::step_and_record;
+    use fmi_import::remote::{round_trips, WorkerOptions};
+    let s = Scenario::from_toml(BENCH_SCENARIO, "<bench scenario>", Path::new("."))?;
+    let model = crate::model::build(&s)?;
+    let dir = args.out.join("isolated");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let exported = crate::fmus::export::export_with(&model, &s.coupling, &dir, true)?;
+    let open = tbi_ssp::open_exported(&exported.ssd, &exported.ssp)?;
+    let (t_end, steps) = (model.t_end(), model.steps);
+    let times = (0.0, t_end, model.dt, steps, steps);
+    let workers = super::workers::options(false, None)?;
+    let run =
+        |isolation: Option<&WorkerOptions>| -> Result<(f64, u64), Box<dyn std::error::Error>> {
+            let (trips, started) = (round_trips(), Instant::now());
+            let mut wired = tbi_ssp::wire_with(&open, &[], 0.0, t_end, isolation)?;
+            let mut csv = crate::output::outdir::NamedFile::create(&dir.join("last_row.csv"))?;
+            step_and_record(&mut wired.system, &[], &s.coupling, times, &mut csv, true)?;
+            drop(wired);
+            Ok((started.elapsed().as_secs_f64(), round_trips() - trips))
+        };
+    let (mut here, mut isolated, mut trips) = (Vec::new(), Vec::new(), 0);
+    for _ in 0..args.repeat {
+        here.push(run(None)?.0);
+        let (wall, n) = run(workers.as_ref())?;
+        isolated.push(wall);
+        trips = n;
+    }
+    let fastest = |walls: &[f64]| walls.iter().copied().fold(f64::INFINITY, f64::min);
+    let (here, isolated) = (fastest(&here), fastest(&isolated));
+    let per_step = trips as f64 / steps as f64;
+    let cost_us = 1e6 * (isolated - here).max(0.0) / trips.max(1) as f64;
+    crate::say!(
+        "isolated FMUs (tbi cosim's default) against in process: wall {isolated:.3} s against {here:.3} s = {:.2}, {per_step:.2} round trips per step, {cost_us:.1} µs each",
+        isolated / here
+    );
+    figures.insert("isolated_over_in_process".into(), (isolated / here).into());
+    figures.insert("isolated_round_trips_per_step".into(), per_step.into());
+    figures.insert("isolated_round_trip_us".into(), cost_us.into());
     Ok(())
 }
 
