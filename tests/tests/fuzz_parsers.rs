@@ -1,11 +1,13 @@
 //! Every parser of user input, fed mutated inputs: zero panics. 30 000 cases per parser
-//! (180 000 in all) from a fixed seed, so a failure reproduces; inputs that once failed
+//! (210 000 in all) from a fixed seed, so a failure reproduces; inputs that once failed
 //! are kept in each test's corpus and checked on every run.
 //!
 //! Parsers: the scenario TOML (parse and every check, `Scenario::from_toml`), the track
 //! record CSV (`Record::parse`), the modes file as CSV (`ModeSet::parse_csv`) and JSON
 //! (serde + `ModeSet::validate`), `modelDescription.xml` (`ModelDescription::parse`) and the
-//! SSP's `SystemStructure.ssd` (`ssp::parse_ssd`).
+//! SSP's `SystemStructure.ssd` (`ssp::parse_ssd`; seeds with inline parameter bindings of
+//! every type, a bound `.ssv` file and the coupling and process annotations) and its `.ssv`
+//! parameter files (`ssp::parse_ssv`).
 
 use std::path::Path;
 use tbi::scenario::Scenario;
@@ -138,7 +140,67 @@ fn system_structure_ssd() {
     let seed =
         std::fs::read_to_string(tbi_tests::repo_path("tests/golden/yang-yau-system.ssd")).unwrap();
     let parse = |b: &[u8]| tbi_ssp::parse_ssd(&text(b), "fuzz.ssd").is_ok();
-    fuzz::corpus("ssd", &[b"<a/>", b"<ssd:Component name=\"x\"/>"], parse);
-    let accepted = fuzz::run("ssd", 0x55d0, &[seed.as_bytes()], CASES, parse);
+    // a process annotation in a component outside <Elements> once panicked
+    let outside = br#"<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0"><ssd:System><ssd:Component name="a"><ssd:Annotations><ssc:Annotation type="org.tbi.process"><tbi:Process in_process="true"/></ssc:Annotation></ssd:Annotations></ssd:Component><ssd:Elements/></ssd:System></ssd:SystemStructureDescription>"#;
+    fuzz::corpus(
+        "ssd",
+        &[b"<a/>", b"<ssd:Component name=\"x\"/>", outside],
+        parse,
+    );
+    assert!(
+        parse(BOUND_SSD.as_bytes()),
+        "the seed with bindings is valid"
+    );
+    let seeds: [&[u8]; 2] = [seed.as_bytes(), BOUND_SSD.as_bytes()];
+    let accepted = fuzz::run("ssd", 0x55d0, &seeds, CASES, parse);
     assert!(accepted > 100, "only {accepted} mutated SSDs were valid");
+}
+
+/// An SSD whose components bind parameters inline (Real, Integer, Boolean, String) and
+/// from an `.ssv` file, with the coupling annotation and a component's process annotation.
+const BOUND_SSD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" xmlns:tbi="urn:tbi:coupling" version="1.0" name="s">
+  <ssd:System name="s">
+    <ssd:Elements>
+      <ssd:Component name="a" source="resources/a.fmu" type="application/x-fmu-sharedlibrary">
+        <ssd:ParameterBindings>
+          <ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" name="p"><ssv:Parameters>
+            <ssv:Parameter name="k"><ssv:Real value="2.5"/></ssv:Parameter>
+            <ssv:Parameter name="n"><ssv:Integer value="3"/></ssv:Parameter>
+            <ssv:Parameter name="on"><ssv:Boolean value="true"/></ssv:Parameter>
+            <ssv:Parameter name="label"><ssv:String value="left"/></ssv:Parameter>
+          </ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding>
+          <ssd:ParameterBinding source="resources/a.ssv"/>
+        </ssd:ParameterBindings>
+        <ssd:Annotations><ssc:Annotation type="org.tbi.process"><tbi:Process in_process="true"/></ssc:Annotation></ssd:Annotations>
+      </ssd:Component>
+      <ssd:Component name="b" source="resources/b.fmu"/>
+    </ssd:Elements>
+    <ssd:Connections>
+      <ssd:Connection startElement="a" startConnector="y" endElement="b" endConnector="u"/>
+      <ssd:Connection startElement="b" startConnector="y" endElement="a" endConnector="u"/>
+    </ssd:Connections>
+    <ssd:Annotations><ssc:Annotation type="org.tbi.coupling"><tbi:Coupling step_size="0.01" scheme="implicit" rtol="1e-9"><tbi:Output name="a.y" element="a" connector="y"/></tbi:Coupling></ssc:Annotation></ssd:Annotations>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="1"/>
+</ssd:SystemStructureDescription>
+"#;
+
+#[test]
+fn parameter_values_ssv() {
+    let seed = r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="p">
+  <ssv:Parameters>
+    <ssv:Parameter name="k"><ssv:Real value="3"/></ssv:Parameter>
+    <ssv:Parameter name="n"><ssv:Integer value="-2"/></ssv:Parameter>
+    <ssv:Parameter name="on"><ssv:Boolean value="false"/></ssv:Parameter>
+    <ssv:Parameter name="label"><ssv:String value="x"/></ssv:Parameter>
+  </ssv:Parameters>
+</ssv:ParameterSet>
+"#;
+    let parse = |b: &[u8]| tbi_ssp::parse_ssv(&text(b), "fuzz.ssv").is_ok();
+    assert!(parse(seed.as_bytes()), "the seed is valid");
+    fuzz::corpus("ssv", &[b"<a/>", b"hostname\n"], parse);
+    let accepted = fuzz::run("ssv", 0x55d1, &[seed.as_bytes()], CASES, parse);
+    assert!(accepted > 100, "only {accepted} mutated SSVs were valid");
 }
