@@ -58,6 +58,8 @@ pub struct Instance<M> {
     model: M,
     /// Strings returned by the last `fmi2GetString`, kept alive until the next call.
     string_buffer: Vec<CString>,
+    /// `"fmi2"` or `"fmi3"`: the prefix of the function names in messages.
+    pub(crate) prefix: &'static str,
 }
 
 impl<M: FmuModel> Instance<M> {
@@ -80,6 +82,7 @@ impl<M: FmuModel> Instance<M> {
             frame: Frame::instantiated(),
             model,
             string_buffer: Vec::new(),
+            prefix: "fmi2",
         }
     }
 
@@ -146,7 +149,8 @@ impl<M: FmuModel> Instance<M> {
             self.logger.log_status(
                 Status::Warning,
                 &format!(
-                    "fmi2SetDebugLogging: unknown log categories {unknown:?} (applied anyway); known categories: {}",
+                    "{}SetDebugLogging: unknown log categories {unknown:?} (applied anyway); known categories: {}",
+                    self.prefix,
                     known.join(", ")
                 ),
             );
@@ -342,7 +346,10 @@ impl<M: FmuModel> Instance<M> {
                 self.frame.terminate_requested = true;
                 self.logger.log_status(
                     Status::Discard,
-                    &format!("fmi2DoStep: step from t = {t} by h = {h} discarded: {reason}"),
+                    &format!(
+                        "{}DoStep: step from t = {t} by h = {h} discarded: {reason}",
+                        self.prefix
+                    ),
                 );
                 Ok(Status::Discard)
             }

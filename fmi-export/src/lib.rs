@@ -39,6 +39,7 @@
 pub mod api;
 pub mod dependencies;
 pub mod export;
+pub mod fmi3;
 pub mod guid;
 pub mod instance;
 pub mod logging;
@@ -46,6 +47,8 @@ pub mod model;
 pub mod snapshot;
 pub mod state;
 
+/// The FMI 3.0 C types, for [`export_fmi3!`].
+pub use ::fmi3::types as fmi3_types;
 pub use fmi2::{functions, types, uri};
 
 pub use guid::guid;

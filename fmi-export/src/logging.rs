@@ -32,7 +32,7 @@
 //! in messages is never interpreted. Interior NUL bytes are written as `\0`.
 
 use std::collections::BTreeMap;
-use std::ffi::{c_char, CString};
+use std::ffi::{c_char, c_int, c_void, CString};
 
 use crate::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, Status};
 
@@ -129,14 +129,23 @@ impl LogFilter {
     }
 }
 
+/// The importer's logger: FMI 2.0's variadic `fmi2CallbackLogger` or FMI 3.0's
+/// `fmi3LogMessageCallback`.
+#[derive(Debug, Clone, Copy)]
+enum Callback {
+    Fmi2(fmi2CallbackLogger),
+    /// Non-NULL (checked by `fmi3InstantiateCoSimulation`).
+    Fmi3(unsafe extern "C" fn(*mut c_void, c_int, *const c_char, *const c_char)),
+}
+
 /// The importer's logger callback plus what is needed to call it.
 ///
-/// Invariant: `callback` was non-NULL in the `fmi2CallbackFunctions` passed to
-/// `fmi2Instantiate` and stays callable for the instance's lifetime (the standard requires
-/// the importer to keep it valid until `fmi2FreeInstance`).
+/// Invariant: the callback was non-NULL when the instance was created and stays callable
+/// for the instance's lifetime (both standards require the importer to keep it valid until
+/// the instance is freed).
 #[derive(Debug, Clone)]
 pub struct Logger {
-    callback: fmi2CallbackLogger,
+    callback: Callback,
     environment: fmi2ComponentEnvironment,
     instance_name: CString,
     pub filter: LogFilter,
@@ -150,7 +159,23 @@ impl Logger {
         logging_on: bool,
     ) -> Self {
         Logger {
-            callback,
+            callback: Callback::Fmi2(callback),
+            environment,
+            instance_name: to_cstring(instance_name),
+            filter: LogFilter::new(logging_on),
+        }
+    }
+
+    /// The logger of an FMI 3.0 instance (`fmi3LogMessageCallback`, which takes no
+    /// instance name: the importer knows it from its environment pointer).
+    pub fn new_fmi3(
+        callback: unsafe extern "C" fn(*mut c_void, c_int, *const c_char, *const c_char),
+        environment: *mut c_void,
+        instance_name: &str,
+        logging_on: bool,
+    ) -> Self {
+        Logger {
+            callback: Callback::Fmi3(callback),
             environment,
             instance_name: to_cstring(instance_name),
             filter: LogFilter::new(logging_on),
@@ -172,19 +197,32 @@ impl Logger {
     fn emit(&self, status: Status, category: &str, message: &str) {
         let category = to_cstring(category);
         let message = to_cstring(message);
-        let format: *const c_char = c"%s".as_ptr();
-        // SAFETY: `callback` is the importer's non-NULL logger (type invariant); all
-        // strings are NUL-terminated and outlive the call; "%s" consumes exactly the one
-        // `const char*` variadic argument passed.
-        unsafe {
-            (self.callback)(
-                self.environment,
-                self.instance_name.as_ptr(),
-                status.raw(),
-                category.as_ptr(),
-                format,
-                message.as_ptr(),
-            );
+        match self.callback {
+            Callback::Fmi2(callback) => {
+                let format: *const c_char = c"%s".as_ptr();
+                // SAFETY: `callback` is the importer's non-NULL logger (type invariant);
+                // all strings are NUL-terminated and outlive the call; "%s" consumes
+                // exactly the one `const char*` variadic argument passed.
+                unsafe {
+                    callback(
+                        self.environment,
+                        self.instance_name.as_ptr(),
+                        status.raw(),
+                        category.as_ptr(),
+                        format,
+                        message.as_ptr(),
+                    );
+                }
+            }
+            // SAFETY: as above; the FMI 3.0 logger takes the message as it is.
+            Callback::Fmi3(callback) => unsafe {
+                callback(
+                    self.environment,
+                    status.raw(),
+                    category.as_ptr(),
+                    message.as_ptr(),
+                )
+            },
         }
     }
 }

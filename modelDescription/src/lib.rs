@@ -14,11 +14,14 @@
 //!   written gives back an equal value.
 //! - [`ModelDescription::validate`] checks the FMI 2.0 rules FMPy's validation checks and
 //!   returns every problem found (see [`validate`]).
+//! - [`ModelDescription::to_fmi3_xml_string`] writes the FMI 3.0 description of the same
+//!   Co-Simulation FMU (see [`fmi3`]).
 //! - [`ModelDescriptionBuilder`] creates Co-Simulation descriptions with Real variables and
 //!   derives ModelStructure and unit declarations (see [`builder`]).
 
 pub mod builder;
 mod error;
+pub mod fmi3;
 pub mod parse;
 pub mod types;
 pub mod validate;

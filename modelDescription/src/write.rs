@@ -31,42 +31,42 @@ fn format_bool(b: bool) -> &'static str {
 }
 
 /// Accumulates one element's attributes.
-struct Attrs(String);
+pub(crate) struct Attrs(pub(crate) String);
 
 impl Attrs {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Attrs(String::new())
     }
-    fn s(&mut self, name: &str, value: &str) -> &mut Self {
+    pub(crate) fn s(&mut self, name: &str, value: &str) -> &mut Self {
         let _ = write!(self.0, " {name}=\"{}\"", escape(value));
         self
     }
-    fn os(&mut self, name: &str, value: &Option<String>) -> &mut Self {
+    pub(crate) fn os(&mut self, name: &str, value: &Option<String>) -> &mut Self {
         if let Some(v) = value {
             self.s(name, v);
         }
         self
     }
-    fn f(&mut self, name: &str, value: Option<f64>) -> &mut Self {
+    pub(crate) fn f(&mut self, name: &str, value: Option<f64>) -> &mut Self {
         if let Some(v) = value {
             self.s(name, &format_f64(v));
         }
         self
     }
-    fn i<T: ToString>(&mut self, name: &str, value: Option<T>) -> &mut Self {
+    pub(crate) fn i<T: ToString>(&mut self, name: &str, value: Option<T>) -> &mut Self {
         if let Some(v) = value {
             self.s(name, &v.to_string());
         }
         self
     }
-    fn b(&mut self, name: &str, value: Option<bool>) -> &mut Self {
+    pub(crate) fn b(&mut self, name: &str, value: Option<bool>) -> &mut Self {
         if let Some(v) = value {
             self.s(name, format_bool(v));
         }
         self
     }
     /// A capability flag: written only when `true` (its default is `false`).
-    fn flag(&mut self, name: &str, value: bool) -> &mut Self {
+    pub(crate) fn flag(&mut self, name: &str, value: bool) -> &mut Self {
         if value {
             self.s(name, "true");
         }
@@ -75,30 +75,30 @@ impl Attrs {
 }
 
 /// Writes indented elements.
-struct Out {
-    text: String,
+pub(crate) struct Out {
+    pub(crate) text: String,
 }
 
 impl Out {
-    fn line(&mut self, depth: usize, content: &str) {
+    pub(crate) fn line(&mut self, depth: usize, content: &str) {
         for _ in 0..depth {
             self.text.push_str("  ");
         }
         self.text.push_str(content);
         self.text.push('\n');
     }
-    fn empty(&mut self, depth: usize, name: &str, attrs: &Attrs) {
+    pub(crate) fn empty(&mut self, depth: usize, name: &str, attrs: &Attrs) {
         self.line(depth, &format!("<{name}{}/>", attrs.0));
     }
-    fn open(&mut self, depth: usize, name: &str, attrs: &Attrs) {
+    pub(crate) fn open(&mut self, depth: usize, name: &str, attrs: &Attrs) {
         self.line(depth, &format!("<{name}{}>", attrs.0));
     }
-    fn close(&mut self, depth: usize, name: &str) {
+    pub(crate) fn close(&mut self, depth: usize, name: &str) {
         self.line(depth, &format!("</{name}>"));
     }
 }
 
-fn real_attrs(a: &mut Attrs, r: &RealAttributes) {
+pub(crate) fn real_attrs(a: &mut Attrs, r: &RealAttributes) {
     a.os("quantity", &r.quantity)
         .os("unit", &r.unit)
         .os("displayUnit", &r.display_unit)
@@ -186,23 +186,9 @@ impl ModelDescription {
             write_type_definitions(&mut out, &self.type_definitions);
         }
 
-        if !self.log_categories.is_empty() {
-            out.open(1, "LogCategories", &Attrs::new());
-            for c in &self.log_categories {
-                let mut a = Attrs::new();
-                a.s("name", &c.name).os("description", &c.description);
-                out.empty(2, "Category", &a);
-            }
-            out.close(1, "LogCategories");
-        }
-
+        write_log_categories(&mut out, &self.log_categories, |d| d.to_owned());
         if let Some(d) = &self.default_experiment {
-            let mut a = Attrs::new();
-            a.f("startTime", d.start_time)
-                .f("stopTime", d.stop_time)
-                .f("tolerance", d.tolerance)
-                .f("stepSize", d.step_size);
-            out.empty(1, "DefaultExperiment", &a);
+            write_default_experiment(&mut out, d);
         }
 
         if let Some(v) = &self.vendor_annotations {
@@ -214,6 +200,35 @@ impl ModelDescription {
         out.close(0, "fmiModelDescription");
         out.text
     }
+}
+
+/// `<LogCategories>` (nothing when there are none), each description through `describe`.
+pub(crate) fn write_log_categories(
+    out: &mut Out,
+    categories: &[LogCategory],
+    describe: impl Fn(&str) -> String,
+) {
+    if categories.is_empty() {
+        return;
+    }
+    out.open(1, "LogCategories", &Attrs::new());
+    for c in categories {
+        let mut a = Attrs::new();
+        let description = c.description.as_deref().map(&describe);
+        a.s("name", &c.name).os("description", &description);
+        out.empty(2, "Category", &a);
+    }
+    out.close(1, "LogCategories");
+}
+
+/// `<DefaultExperiment>`.
+pub(crate) fn write_default_experiment(out: &mut Out, d: &DefaultExperiment) {
+    let mut a = Attrs::new();
+    a.f("startTime", d.start_time)
+        .f("stopTime", d.stop_time)
+        .f("tolerance", d.tolerance)
+        .f("stepSize", d.step_size);
+    out.empty(1, "DefaultExperiment", &a);
 }
 
 /// `<ModelExchange>`, with its source files.
@@ -289,7 +304,7 @@ fn write_co_simulation(out: &mut Out, cs: &CoSimulation) {
 }
 
 /// `<UnitDefinitions>` (non-empty).
-fn write_unit_definitions(out: &mut Out, units: &[Unit]) {
+pub(crate) fn write_unit_definitions(out: &mut Out, units: &[Unit]) {
     out.open(1, "UnitDefinitions", &Attrs::new());
     for u in units {
         let mut attrs = Attrs::new();

@@ -168,7 +168,8 @@ fn export(
     let base_dir = base_dir.to_owned();
     Ok(py.allow_threads(move || -> Result<_, Failure> {
         let s = load(path.as_deref(), text.as_deref(), &origin, &base_dir, None)?;
-        let e = tbi::fmus::export::export_scenario(&s, Path::new(&out)).map_err(classify)?;
+        let e = tbi::fmus::export::export_scenario(&s, Path::new(&out), Default::default())
+            .map_err(classify)?;
         let show = |p: &Path| p.display().to_string();
         Ok((show(&e.bridge), show(&e.train), show(&e.ssp)))
     })?)

@@ -22,6 +22,11 @@ pub struct Export {
 /// Write `toml` to `<scratch folder labelled name>/scenario.toml` and run `tbi export` on it
 /// (the release `tbi` next to the FMU libraries).
 pub fn export(name: &str, toml: &str) -> Export {
+    export_as(name, toml, &[])
+}
+
+/// [`export`] with more arguments for `tbi export` (e.g. `--fmi-version 3`).
+pub fn export_as(name: &str, toml: &str, args: &[&str]) -> Export {
     let dir = scratch(name);
     let scenario = dir.join("scenario.toml");
     std::fs::write(&scenario, toml).expect("write scenario");
@@ -31,7 +36,8 @@ pub fn export(name: &str, toml: &str) -> Export {
             .arg("export")
             .arg(&scenario)
             .arg("--out")
-            .arg(&out),
+            .arg(&out)
+            .args(args),
     );
     let e = Export {
         bridge: out.join("bridge.fmu"),

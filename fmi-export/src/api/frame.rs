@@ -13,7 +13,7 @@ use crate::state::{Allowed, Function, State};
 use crate::types::*;
 
 /// The message of a panic payload.
-pub(super) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     if let Some(s) = payload.downcast_ref::<&str>() {
         (*s).to_owned()
     } else if let Some(s) = payload.downcast_ref::<String>() {
@@ -24,7 +24,7 @@ pub(super) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Resolve a component pointer (see the safety section of [`crate::api`]).
-pub(super) unsafe fn instance<'a, M: FmuModel>(c: fmi2Component) -> Option<&'a mut Instance<M>> {
+pub(crate) unsafe fn instance<'a, M: FmuModel>(c: fmi2Component) -> Option<&'a mut Instance<M>> {
     if c.is_null() {
         return None;
     }
@@ -39,10 +39,10 @@ pub(super) unsafe fn instance<'a, M: FmuModel>(c: fmi2Component) -> Option<&'a m
 }
 
 impl<M: FmuModel> Instance<M> {
-    /// Log `message` as an error of `function` and enter the `Error` state.
-    fn fail(&mut self, function: Function, message: &str) {
+    /// Log `message` as an error of the function `name` and enter the `Error` state.
+    fn fail(&mut self, name: &str, message: &str) {
         self.logger
-            .log_status(Status::Error, &format!("{function}: {message}"));
+            .log_status(Status::Error, &format!("{name}: {message}"));
         if self.frame.state != State::Fatal {
             self.frame.state = State::Error;
         }
@@ -54,7 +54,7 @@ impl<M: FmuModel> Instance<M> {
 /// Only the checks and the call of `body` are made for each function; what a refused or
 /// failed call reports is in [`refused`], one copy per model, out of the way of the
 /// functions' code.
-pub(super) unsafe fn call<M: FmuModel>(
+pub(crate) unsafe fn call<M: FmuModel>(
     c: fmi2Component,
     function: Function,
     body: impl FnOnce(&mut Instance<M>) -> Result<Status, String>,
@@ -94,6 +94,12 @@ enum Refusal {
 #[cold]
 #[inline(never)]
 fn refused<M: FmuModel>(inst: &mut Instance<M>, function: Function, why: Refusal) -> Status {
+    // the message names the function the importer called: an FMI 3.0 function runs as the
+    // FMI 2.0 function with the same states (crate::fmi3)
+    let name = match inst.prefix {
+        "fmi3" => crate::fmi3::name_of(function),
+        _ => function.symbol(),
+    };
     let message = match why {
         Refusal::State => format!(
             "illegal call in state {} (allowed in: {})",
@@ -104,12 +110,12 @@ fn refused<M: FmuModel>(inst: &mut Instance<M>, function: Function, why: Refusal
         Refusal::Message(message) => message,
         Refusal::Panic(payload) => format!("panic in the model: {}", panic_message(&*payload)),
     };
-    inst.fail(function, &message);
+    inst.fail(name, &message);
     Status::Error
 }
 
 /// `&[T]` from a C array, refusing NULL with `n > 0` and impossible lengths.
-pub(super) unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+pub(crate) unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
     if n == 0 {
         return Ok(&[]);
     }
@@ -124,7 +130,7 @@ pub(super) unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result
 }
 
 /// `&mut [T]` from a C array (see [`slice`]).
-pub(super) unsafe fn slice_mut<'a, T>(
+pub(crate) unsafe fn slice_mut<'a, T>(
     ptr: *mut T,
     n: usize,
     what: &str,
@@ -143,7 +149,7 @@ pub(super) unsafe fn slice_mut<'a, T>(
 }
 
 /// A `&str` from a NUL-terminated C string.
-pub(super) unsafe fn string<'a>(ptr: *const c_char, what: &str) -> Result<&'a str, String> {
+pub(crate) unsafe fn string<'a>(ptr: *const c_char, what: &str) -> Result<&'a str, String> {
     if ptr.is_null() {
         return Err(format!("{what} is NULL"));
     }
@@ -151,4 +157,20 @@ pub(super) unsafe fn string<'a>(ptr: *const c_char, what: &str) -> Result<&'a st
     unsafe { CStr::from_ptr(ptr) }
         .to_str()
         .map_err(|_| format!("{what} is not valid UTF-8"))
+}
+
+/// A function the FMU does not provide: logs `{name}: {why}` as an error of the instance
+/// (which enters the `Error` state) and returns the error status; a NULL or foreign
+/// instance gets the error status alone.
+///
+/// # Safety
+/// `c` must be NULL or a pointer the importer got from this FMU (see [`crate::api`]).
+pub unsafe fn unsupported<M: FmuModel>(c: fmi2Component, name: &str, why: &str) -> fmi2Status {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: forwarded contract of the caller.
+        if let Some(inst) = unsafe { instance::<M>(c) } {
+            inst.fail(name, why);
+        }
+    }));
+    Status::Error.raw()
 }

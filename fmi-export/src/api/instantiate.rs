@@ -133,6 +133,38 @@ unsafe fn instantiate_checked<M: FmuModel>(
         Ok(p) => p,
         Err(e) => return refuse(e),
     };
+    match build::<M>(
+        model_identifier,
+        name,
+        &given_guid,
+        resources,
+        logger,
+        "fmi2",
+    ) {
+        Some(inst) => Box::into_raw(Box::new(inst)) as fmi2Component,
+        None => ptr::null_mut(),
+    }
+}
+
+/// The instance of `M` built from its resources folder, once its GUID (FMI 3.0: its
+/// instantiation token) equals `given`; `None` after logging why not as an error of
+/// `{prefix}Instantiate…` (`prefix` is `"fmi2"` or `"fmi3"`).
+pub(crate) fn build<M: FmuModel>(
+    model_identifier: &'static str,
+    name: String,
+    given: &str,
+    resources: PathBuf,
+    logger: Logger,
+    prefix: &'static str,
+) -> Option<Instance<M>> {
+    let (function, token) = match prefix {
+        "fmi3" => ("fmi3InstantiateCoSimulation", "instantiationToken"),
+        _ => ("fmi2Instantiate", "fmuGUID"),
+    };
+    let refuse = |reason: String| {
+        logger.log_status(Status::Error, &format!("{function}: {reason}"));
+        None
+    };
     let model = match catch_unwind(AssertUnwindSafe(|| M::instantiate(&resources, &logger))) {
         Ok(Ok(m)) => m,
         Ok(Err(e)) => {
@@ -157,9 +189,9 @@ unsafe fn instantiate_checked<M: FmuModel>(
             ))
         }
     };
-    if model_guid != given_guid {
+    if model_guid != given {
         return refuse(format!(
-            "GUID mismatch: fmuGUID is '{given_guid}' but this binary with its resources is '{model_guid}' (modelDescription.xml does not belong to this binary/resources)"
+            "GUID mismatch: {token} is '{given}' but this binary with its resources is '{model_guid}' (modelDescription.xml does not belong to this binary/resources)"
         ));
     }
     logger.log(
@@ -170,8 +202,9 @@ unsafe fn instantiate_checked<M: FmuModel>(
             resources.display()
         ),
     );
-    let inst = Instance::new(model_identifier, name, model_guid, resources, logger, model);
-    Box::into_raw(Box::new(inst)) as fmi2Component
+    let mut inst = Instance::new(model_identifier, name, model_guid, resources, logger, model);
+    inst.prefix = prefix;
+    Some(inst)
 }
 
 /// `fmi2FreeInstance`: drops the instance; NULL and unknown pointers are ignored.
@@ -182,7 +215,8 @@ pub unsafe fn free_instance<M: FmuModel>(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: forwarded contract.
         if let Some(inst) = unsafe { instance::<M>(c) } {
-            inst.logger.log(Status::Ok, LOG_EVENTS, "fmi2FreeInstance");
+            let event = format!("{}FreeInstance", inst.prefix);
+            inst.logger.log(Status::Ok, LOG_EVENTS, &event);
             inst.magic = 0;
             // SAFETY: created by Box::into_raw in `instantiate`, not yet freed.
             drop(unsafe { Box::from_raw(c as *mut Instance<M>) });

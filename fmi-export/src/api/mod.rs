@@ -44,7 +44,8 @@
 //! is in `frame`.
 
 mod fmu_state;
-mod frame;
+#[doc(hidden)]
+pub mod frame;
 mod instantiate;
 mod lifecycle;
 mod slave;
@@ -54,6 +55,7 @@ pub use fmu_state::{
     de_serialize_fmu_state, free_fmu_state, get_fmu_state, serialize_fmu_state,
     serialized_fmu_state_size, set_fmu_state,
 };
+pub(crate) use instantiate::build;
 pub use instantiate::{free_instance, get_types_platform, get_version, instantiate};
 pub use lifecycle::{
     enter_initialization_mode, exit_initialization_mode, reset, set_debug_logging,

@@ -403,3 +403,4 @@ mod tests {
         assert!(b.deserialize_state(&nan).is_err());
     }
 }
+fmi_export::export_fmi3!(Oscillator);

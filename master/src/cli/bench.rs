@@ -295,7 +295,8 @@ fn isolated_case(
     let model = crate::model::build(&s)?;
     let dir = args.out.join("isolated");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let exported = crate::fmus::export::export_with(&model, &s.coupling, &dir, true)?;
+    let exported =
+        crate::fmus::export::export_with(&model, &s.coupling, &dir, true, Default::default())?;
     let open = tbi_ssp::open_exported(&exported.ssd, &exported.ssp)?;
     let (t_end, steps) = (model.t_end(), model.steps);
     let times = (0.0, t_end, model.dt, steps, steps);

@@ -11,7 +11,7 @@
 //! resources. An FMU already in the folder is reused when its GUID matches and its packed
 //! shared object has the length and CRC-32 of the current library.
 
-use crate::fmus::package::write_fmu;
+use crate::fmus::package::{write_fmu, write_fmu3, FMI3_PLATFORM};
 use crate::fmus::ssd::{connections, length_and_crc, system_outputs, write_ssp, Side};
 use crate::model::Model;
 use fmi_export::dependencies::Declared;
@@ -58,9 +58,15 @@ pub struct Exported {
 pub fn export_scenario(
     scenario: &crate::scenario::Scenario,
     out: &Path,
+    version: FmiVersion,
 ) -> Result<Exported, Box<dyn std::error::Error>> {
     let model = crate::model::build(scenario)?;
-    let e = export(&model, &scenario.coupling, out)?;
+    let e = export_with(&model, &scenario.coupling, out, true, version)?;
+    if version == FmiVersion::V3 {
+        // the importer loads FMI 2.0 FMUs only: the FMI 3.0 ones are checked by their tests
+        // (FMPy validates and simulates them)
+        return Ok(e);
+    }
     for fmu in [&e.bridge, &e.train] {
         if let Err(why) = check_instantiates(fmu) {
             for f in [&e.bridge, &e.train, &e.ssp] {
@@ -157,7 +163,7 @@ fn description_xml(
     declared: &Declared,
     (stop, step): (f64, f64),
     caps: fmi_export::CoSimulationCapabilities,
-) -> Result<String, String> {
+) -> Result<ModelDescription, String> {
     let mut b = ModelDescriptionBuilder::new(id, guid, id)
         .description(what)
         .generation_tool(format!("tbi {}", env!("CARGO_PKG_VERSION")))
@@ -200,7 +206,7 @@ fn description_xml(
             problems.join("; ")
         ));
     }
-    Ok(md.to_xml_string())
+    Ok(md)
 }
 
 /// Write the probed dependencies into `<Outputs>` and `<InitialUnknowns>` (every kind
@@ -230,17 +236,39 @@ fn declare_dependencies(md: &mut ModelDescription, declared: &Declared) {
 
 const DOC: &str = "<html><body><h1>{TITLE}</h1><p>{WHAT}</p><p>Variables follow the pattern <code>ws[i].name</code> (wheelset i, 1-based; <code>veh[i]</code> vehicle i, <code>deck[j]</code> deck point j), SI units; y right, z down, roll about x right side down. Inputs set before fmi2DoStep(t, h) are the values at t + h: an implicit (iterating) master reproduces the monolithic solution, a plain fixed-step master sees a one-step lag. Each fmi2DoStep is one Newmark (average acceleration) step of size h.</p></body></html>";
 
-/// Package the model's FMUs and SSP into `out`. Existing files with the same GUIDs are reused.
-pub fn export(model: &Model, coupling: &CouplingConfig, out: &Path) -> Result<Exported, String> {
-    export_with(model, coupling, out, true)
+/// The FMI version of the FMUs written: 2.0 (the default) or 3.0, from the same models,
+/// binaries and variables (FMI 3.0 adds the independent variable `time`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FmiVersion {
+    #[default]
+    V2,
+    V3,
 }
 
-/// As [`export`]; `with_ssp = false` skips `system.ssp` (the co-simulation runs do not need it).
+impl FmiVersion {
+    /// `2` → 2.0, `3` → 3.0.
+    pub fn from_major(major: u8) -> Result<FmiVersion, String> {
+        match major {
+            2 => Ok(FmiVersion::V2),
+            3 => Ok(FmiVersion::V3),
+            _ => Err(format!("FMI version {major}: expected 2 or 3")),
+        }
+    }
+}
+
+/// Package the model's FMUs and SSP into `out`. Existing files with the same GUIDs are reused.
+pub fn export(model: &Model, coupling: &CouplingConfig, out: &Path) -> Result<Exported, String> {
+    export_with(model, coupling, out, true, FmiVersion::V2)
+}
+
+/// As [`export`]; `with_ssp = false` skips `system.ssp` (the co-simulation runs do not need
+/// it), and `version` chooses FMI 2.0 or 3.0 FMUs.
 pub fn export_with(
     model: &Model,
     coupling: &CouplingConfig,
     out: &Path,
     with_ssp: bool,
+    version: FmiVersion,
 ) -> Result<Exported, String> {
     // JSON has no NaN or infinity (serde would write null): refuse before writing anything.
     if let Some(what) = model.bridge.first_non_finite() {
@@ -260,6 +288,7 @@ pub fn export_with(
     let packaging = Packaging {
         libs: &libs,
         experiment: (model.t_end(), model.dt),
+        version,
     };
     // The archives are independent: each is packaged on a thread of its own.
     std::thread::scope(|scope| {
@@ -358,6 +387,7 @@ fn wind_resources(model: &Model) -> Result<Option<WindResources>, String> {
 struct Packaging<'a> {
     libs: &'a Path,
     experiment: (f64, f64),
+    version: FmiVersion,
 }
 
 impl Packaging<'_> {
@@ -366,24 +396,32 @@ impl Packaging<'_> {
     fn fmu(&self, path: &Path, contract: &dyn Contract) -> Result<(), String> {
         let (id, guid, what) = (contract.id(), contract.guid(), contract.description());
         let so = self.libs.join(format!("lib{id}.so"));
-        if is_current(path, &guid, id, &so) {
+        if is_current(path, &guid, id, &so, self.version) {
             return Ok(());
         }
         let declared = contract.dependencies()?;
         let vars = contract.variables();
         let caps = contract.capabilities();
-        let xml = description_xml(id, &guid, what, &vars, &declared, self.experiment, caps)?;
+        let md = description_xml(id, &guid, what, &vars, &declared, self.experiment, caps)?;
         let doc = DOC.replace("{TITLE}", id).replace("{WHAT}", what);
+        let resources = contract.resources()?;
         // the error names the file
-        write_fmu(path, &xml, id, &so, &contract.resources()?, Some(&doc))
-            .map_err(|e| e.to_string())
+        match self.version {
+            FmiVersion::V2 => write_fmu(path, &md.to_xml_string(), id, &so, &resources, Some(&doc)),
+            FmiVersion::V3 => {
+                let doc = doc.replace("fmi2DoStep", "fmi3DoStep");
+                write_fmu3(path, &md, id, &so, &resources, Some(&doc))
+            }
+        }
+        .map_err(|e| e.to_string())
     }
 }
 
-/// Whether `fmu` exists with this GUID and this shared object (so a rebuilt library is
-/// always repackaged). The packed library is compared by its length and by the CRC-32 the
-/// archive's directory records, so nothing is inflated.
-fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
+/// Whether `fmu` exists with this GUID (FMI 3.0: instantiation token), FMI version and
+/// shared object (so a rebuilt library is always repackaged). The packed library is
+/// compared by its length and by the CRC-32 the archive's directory records, so nothing is
+/// inflated.
+fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path, version: FmiVersion) -> bool {
     use std::io::Read;
     let Ok(f) = std::fs::File::open(fmu) else {
         return false;
@@ -400,10 +438,14 @@ fn is_current(fmu: &Path, guid: &str, id: &str, so: &Path) -> bool {
         }
         Err(_) => return false,
     }
-    if !s.contains(&format!("guid=\"{guid}\"")) {
+    let (token, platform) = match version {
+        FmiVersion::V2 => ("guid", fmi_import::PLATFORM),
+        FmiVersion::V3 => ("instantiationToken", FMI3_PLATFORM),
+    };
+    if !s.contains(&format!("{token}=\"{guid}\"")) {
         return false;
     }
-    let (size, crc) = match z.by_name(&format!("binaries/linux64/{id}.so")) {
+    let (size, crc) = match z.by_name(&format!("binaries/{platform}/{id}.so")) {
         Ok(b) => (b.size(), b.crc32()),
         Err(_) => return false,
     };

@@ -2,11 +2,12 @@
 //!
 //! [`write_fmu`] produces the standard FMI 2.0 layout with forward-slash names, the
 //! description and documentation deflated, the library and resources stored (see
-//! `write_zip`):
+//! `write_zip`), and [`write_fmu3`] the FMI 3.0 one, whose binaries folder is named by
+//! architecture and operating system:
 //!
 //! ```text
 //! modelDescription.xml
-//! binaries/linux64/<modelIdentifier>.so
+//! binaries/linux64/<modelIdentifier>.so        (FMI 3.0: binaries/x86_64-linux/)
 //! resources/<relative path>...
 //! documentation/index.html            (optional)
 //! ```
@@ -81,7 +82,67 @@ pub fn write_fmu(
     };
     let md = ModelDescription::parse(model_description_xml, "the model description")
         .map_err(|e| fail(e.to_string()))?;
-    match &md.co_simulation {
+    let fmu = Archive {
+        xml: model_description_xml,
+        platform: fmi_import::PLATFORM,
+        model_identifier,
+        shared_object,
+        resources,
+        documentation_html,
+    };
+    fmu.write(out, &md)
+}
+
+/// The folder of an FMI 3.0 FMU's binaries for this platform (`<arch>-<os>`).
+pub const FMI3_PLATFORM: &str = "x86_64-linux";
+
+/// Write the FMI 3.0 Co-Simulation FMU of the FMI 2.0 description `md` (same variables,
+/// [`ModelDescription::to_fmi3_xml_string`]) to `out`, with the library under
+/// `binaries/x86_64-linux/`; otherwise as [`write_fmu`].
+pub fn write_fmu3(
+    out: &Path,
+    md: &ModelDescription,
+    model_identifier: &str,
+    shared_object: &Path,
+    resources: &[(String, Vec<u8>)],
+    documentation_html: Option<&str>,
+) -> Result<(), PackageError> {
+    let xml = md.to_fmi3_xml_string().map_err(|message| PackageError {
+        out: out.to_path_buf(),
+        message,
+    })?;
+    let fmu = Archive {
+        xml: &xml,
+        platform: FMI3_PLATFORM,
+        model_identifier,
+        shared_object,
+        resources,
+        documentation_html,
+    };
+    fmu.write(out, md)
+}
+
+/// What an FMU archive holds.
+struct Archive<'a> {
+    xml: &'a str,
+    /// The folder of the binaries (`linux64`, `x86_64-linux`).
+    platform: &'a str,
+    model_identifier: &'a str,
+    shared_object: &'a Path,
+    resources: &'a [(String, Vec<u8>)],
+    documentation_html: Option<&'a str>,
+}
+
+impl Archive<'_> {
+    /// Check the archive against `md` (its FMI 2.0 description) and write it to `out`.
+    fn write(&self, out: &Path, md: &ModelDescription) -> Result<(), PackageError> {
+        let fail = |message: String| PackageError {
+            out: out.to_path_buf(),
+            message,
+        };
+        let (model_identifier, resources, shared_object) =
+            (self.model_identifier, self.resources, self.shared_object);
+        match &md.co_simulation {
         Some(cs) if cs.model_identifier == model_identifier => {}
         Some(cs) => {
             return Err(fail(format!(
@@ -91,61 +152,50 @@ pub fn write_fmu(
         }
         None => return Err(fail("the model description has no <CoSimulation> element".into())),
     }
-    if model_identifier.is_empty()
-        || !model_identifier
-            .chars()
-            .all(|c| c == '_' || c.is_ascii_alphanumeric())
-        || model_identifier.starts_with(|c: char| c.is_ascii_digit())
-    {
-        return Err(fail(format!(
-            "modelIdentifier \"{model_identifier}\" is not a valid C identifier"
-        )));
-    }
-    let mut seen = HashSet::new();
-    for (path, _) in resources {
-        check_resource_path(path).map_err(&fail)?;
-        if !seen.insert(path.as_str()) {
-            return Err(fail(format!("resource path \"{path}\" is given twice")));
+        if model_identifier.is_empty()
+            || !model_identifier
+                .chars()
+                .all(|c| c == '_' || c.is_ascii_alphanumeric())
+            || model_identifier.starts_with(|c: char| c.is_ascii_digit())
+        {
+            return Err(fail(format!(
+                "modelIdentifier \"{model_identifier}\" is not a valid C identifier"
+            )));
         }
-    }
-    let library = fs::read(shared_object).map_err(|e| {
-        fail(format!(
-            "cannot read the shared library {}: {e}",
-            shared_object.display()
-        ))
-    })?;
+        let mut seen = HashSet::new();
+        for (path, _) in resources {
+            check_resource_path(path).map_err(&fail)?;
+            if !seen.insert(path.as_str()) {
+                return Err(fail(format!("resource path \"{path}\" is given twice")));
+            }
+        }
+        let library = fs::read(shared_object).map_err(|e| {
+            fail(format!(
+                "cannot read the shared library {}: {e}",
+                shared_object.display()
+            ))
+        })?;
 
-    let file_name = out
-        .file_name()
-        .ok_or_else(|| fail("the output path has no file name".into()))?;
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(file_name);
-    temp_name.push(format!(".{}.fmu.tmp", std::process::id()));
-    let temp = out.with_file_name(temp_name);
-    let result = write_zip(
-        &temp,
-        model_description_xml,
-        model_identifier,
-        &library,
-        resources,
-        documentation_html,
-    )
-    .and_then(|()| fs::rename(&temp, out));
-    if let Err(e) = result {
-        let _ = fs::remove_file(&temp);
-        return Err(fail(format!("cannot write the archive: {e}")));
+        let file_name = out
+            .file_name()
+            .ok_or_else(|| fail("the output path has no file name".into()))?;
+        let mut temp_name = std::ffi::OsString::from(".");
+        temp_name.push(file_name);
+        temp_name.push(format!(".{}.fmu.tmp", std::process::id()));
+        let temp = out.with_file_name(temp_name);
+        let result = write_zip(&temp, self, &library).and_then(|()| fs::rename(&temp, out));
+        if let Err(e) = result {
+            let _ = fs::remove_file(&temp);
+            return Err(fail(format!("cannot write the archive: {e}")));
+        }
+        Ok(())
     }
-    Ok(())
 }
 
-fn write_zip(
-    path: &Path,
-    model_description_xml: &str,
-    model_identifier: &str,
-    library: &[u8],
-    resources: &[(String, Vec<u8>)],
-    documentation_html: Option<&str>,
-) -> io::Result<()> {
+fn write_zip(path: &Path, archive: &Archive, library: &[u8]) -> io::Result<()> {
+    let (model_description_xml, model_identifier, platform) =
+        (archive.xml, archive.model_identifier, archive.platform);
+    let (resources, documentation_html) = (archive.resources, archive.documentation_html);
     let file = fs::File::create(path)?;
     let mut zip = zip::ZipWriter::new(io::BufWriter::new(file));
     // The description and the documentation are deflated (text that shrinks to a few per
@@ -166,9 +216,9 @@ fn write_zip(
     zip.write_all(model_description_xml.as_bytes())?;
 
     zip.add_directory("binaries/", dir_options)?;
-    zip.add_directory(format!("binaries/{}/", fmi_import::PLATFORM), dir_options)?;
+    zip.add_directory(format!("binaries/{platform}/"), dir_options)?;
     zip.start_file(
-        format!("binaries/{}/{model_identifier}.so", fmi_import::PLATFORM),
+        format!("binaries/{platform}/{model_identifier}.so"),
         library_options,
     )?;
     zip.write_all(library)?;

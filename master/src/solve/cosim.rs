@@ -28,7 +28,7 @@ pub fn run_cosim<W: std::io::Write>(
     // One co-simulation code path: the FMUs are run as the exported SSP system (its
     // description, with the FMUs written beside the archive), as `tbi cosim system.ssp`
     // runs it.
-    let exported = crate::fmus::export::export_with(model, cfg, fmu_dir, true)?;
+    let exported = crate::fmus::export::export_with(model, cfg, fmu_dir, true, Default::default())?;
     let t_end = model.t_end();
     let open = tbi_ssp::open_exported(&exported.ssd, &exported.ssp)?;
     let mut sys = tbi_ssp::wire(&open, &[], 0.0, t_end)?.system;
