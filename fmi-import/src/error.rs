@@ -66,6 +66,10 @@ pub enum FmiError {
         status: CallStatus,
         messages: Vec<LogMessage>,
     },
+    /// An FMI 3.0 call failed: the message names the call, the status and what the FMU
+    /// logged.
+    #[error("{fmu}: {message}")]
+    Call3 { fmu: String, message: String },
     /// `fmi2Instantiate` returned NULL.
     #[error(
         "{fmu}: fmi2Instantiate(instanceName=\"{instance}\") failed (returned NULL){}",

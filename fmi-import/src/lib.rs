@@ -43,8 +43,10 @@
 //! defaults and CSV of `fmpy simulate`), and [`harness`], a C-ABI conformance and misuse
 //! harness for FMU shared objects, built on the same [`Library`] loader.
 
+mod any;
 pub mod archive;
 mod error;
+pub mod fmi3;
 pub mod harness;
 mod instance;
 pub mod library;
@@ -54,6 +56,7 @@ mod participant;
 pub mod remote;
 pub mod simulate;
 
+pub use any::AnyFmu;
 pub use archive::UnpackLimits;
 pub use error::{CallStatus, FmiError, Status};
 pub use fmi2::first_non_finite;

@@ -177,28 +177,10 @@ impl ModelDescriptionBuilder {
     ) -> Self {
         Self {
             md: ModelDescription {
-                fmi_version: "2.0".into(),
-                model_name: model_name.into(),
-                guid: guid.into(),
-                description: None,
-                author: None,
-                version: None,
-                copyright: None,
-                license: None,
-                generation_tool: None,
-                generation_date_and_time: None,
                 variable_naming_convention: VariableNamingConvention::Structured,
                 number_of_event_indicators: Some(0),
-                model_exchange: None,
                 co_simulation: Some(CoSimulation::new(model_identifier)),
-                unit_definitions: Vec::new(),
-                type_definitions: Vec::new(),
-                log_categories: Vec::new(),
-                default_experiment: None,
-                vendor_annotations: None,
-                model_variables: Vec::new(),
-                model_structure: ModelStructure::default(),
-                source_lines: SourceLines::default(),
+                ..ModelDescription::empty("2.0", &model_name.into(), &guid.into())
             },
         }
     }

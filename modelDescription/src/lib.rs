@@ -14,6 +14,8 @@
 //!   written gives back an equal value.
 //! - [`ModelDescription::validate`] checks the FMI 2.0 rules FMPy's validation checks and
 //!   returns every problem found (see [`validate`]).
+//! - An FMI 3.0 description (`fmiVersion="3.0"`) is read into the same types, in FMI 2.0's
+//!   terms, for the Co-Simulation FMUs the importer runs (see `fmi3_read`).
 //! - [`ModelDescription::to_fmi3_xml_string`] writes the FMI 3.0 description of the same
 //!   Co-Simulation FMU (see [`fmi3`]).
 //! - [`ModelDescriptionBuilder`] creates Co-Simulation descriptions with Real variables and
@@ -22,6 +24,7 @@
 pub mod builder;
 mod error;
 pub mod fmi3;
+mod fmi3_read;
 pub mod parse;
 pub mod types;
 pub mod validate;

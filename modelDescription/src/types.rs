@@ -41,6 +41,37 @@ pub struct ModelDescription {
     pub source_lines: SourceLines,
 }
 
+impl ModelDescription {
+    /// A description with the given identity and nothing else: no interface, variables,
+    /// units or structure (the naming convention flat, as FMI's default).
+    pub(crate) fn empty(fmi_version: &str, model_name: &str, guid: &str) -> ModelDescription {
+        ModelDescription {
+            fmi_version: fmi_version.to_owned(),
+            model_name: model_name.to_owned(),
+            guid: guid.to_owned(),
+            description: None,
+            author: None,
+            version: None,
+            copyright: None,
+            license: None,
+            generation_tool: None,
+            generation_date_and_time: None,
+            variable_naming_convention: VariableNamingConvention::default(),
+            number_of_event_indicators: None,
+            model_exchange: None,
+            co_simulation: None,
+            unit_definitions: Vec::new(),
+            type_definitions: Vec::new(),
+            log_categories: Vec::new(),
+            default_experiment: None,
+            vendor_annotations: None,
+            model_variables: Vec::new(),
+            model_structure: ModelStructure::default(),
+            source_lines: SourceLines::default(),
+        }
+    }
+}
+
 /// 1-based line numbers of the elements of a description read from text, each list in
 /// document order (the `i`-th `<ScalarVariable>` at `variables[i]`, …). Not part of a
 /// description's value: two descriptions differing only in their lines are equal.

@@ -5,7 +5,7 @@
 use super::open::OpenSystem;
 use super::read::Component;
 use fmi_import::remote::{RemoteInstance, WorkerOptions};
-use fmi_import::{FmiCalls, Fmu, FmuParticipant, InstantiateOptions, LocalInstance};
+use fmi_import::{AnyFmu, FmiCalls, Fmu, FmuParticipant, InstantiateOptions};
 use model_description::{Causality, ModelDescription, Variability, VariableKind};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -72,7 +72,7 @@ pub fn exchanged_kind(kind: &VariableKind) -> Option<Option<Discrete>> {
 /// A component's FMU, ready to instantiate: loaded in this process, or described only (its
 /// library is loaded by its worker).
 enum Ready {
-    Loaded(Arc<Fmu>),
+    Loaded(AnyFmu),
     Described(Box<ModelDescription>),
 }
 
@@ -97,7 +97,7 @@ fn load_all(open: &OpenSystem, isolated: bool) -> Vec<Result<Ready, String>> {
                 .map(|md| Ready::Described(Box::new(md)))
                 .map_err(named)
         } else {
-            Fmu::load(&path).map(Ready::Loaded).map_err(named)
+            AnyFmu::load(&path).map(Ready::Loaded).map_err(named)
         }
     };
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
@@ -195,11 +195,10 @@ fn instantiate_all(
     {
         let (md, calls): (ModelDescription, Box<dyn FmiCalls>) = match (ready?, isolation) {
             (Ready::Loaded(fmu), _) => {
-                let inst = fmu
-                    .instantiate(&InstantiateOptions::component(&c.name))
+                let calls = fmu
+                    .instantiate_calls(&InstantiateOptions::component(&c.name))
                     .map_err(|e| e.to_string())?;
-                let md = fmu.model_description().clone();
-                (md, Box::new(LocalInstance::new(inst)))
+                (fmu.model_description().clone(), calls)
             }
             (Ready::Described(md), Some(options)) => {
                 let path = open.base.join(&c.source);

@@ -31,8 +31,10 @@ impl Fmu {
         Ok(model_description)
     }
 
-    /// Unpack, read and check the description; (name, folder, description, library path).
-    fn read(
+    /// Unpack, read and check the description; (name, folder, description, library path
+    /// relative to the folder: under `binaries/linux64/` for FMI 2.0, under
+    /// `binaries/x86_64-linux/` for FMI 3.0).
+    pub(crate) fn read(
         path: &Path,
         limits: &UnpackLimits,
     ) -> Result<
@@ -78,8 +80,13 @@ impl Fmu {
         let problems = model_description.validate();
         if !problems.is_empty() {
             return Err(unsupported(format!(
-                "modelDescription.xml breaks {} rule(s) of FMI 2.0:\n  {}",
+                "modelDescription.xml breaks {} rule(s) of FMI {}:\n  {}",
                 problems.len(),
+                if model_description.fmi_version.starts_with('3') {
+                    "3.0"
+                } else {
+                    "2.0"
+                },
                 problems.join("\n  ")
             )));
         }
@@ -100,7 +107,12 @@ impl Fmu {
                 "modelIdentifier \"{identifier}\" is not a valid C identifier"
             )));
         }
-        let relative = format!("binaries/{PLATFORM}/{identifier}.so");
+        let platform = if model_description.fmi_version.starts_with('3') {
+            crate::fmi3::PLATFORM
+        } else {
+            PLATFORM
+        };
+        let relative = format!("binaries/{platform}/{identifier}.so");
         if !dir.path().join(&relative).is_file() {
             let platforms = list_platforms(dir.path());
             return Err(unsupported(format!(
@@ -121,10 +133,25 @@ impl Fmu {
         limits: &UnpackLimits,
     ) -> Result<Arc<Fmu>, FmiError> {
         let (name, dir, model_description, relative) = Self::read(path.as_ref(), limits)?;
+        Self::from_read(name, dir, model_description, relative)
+    }
+
+    /// The library of an FMU [`Fmu::read`] unpacked, loaded.
+    pub(crate) fn from_read(
+        name: String,
+        dir: crate::archive::UnpackedDir,
+        model_description: ModelDescription,
+        relative: String,
+    ) -> Result<Arc<Fmu>, FmiError> {
         let unsupported = |message: String| FmiError::Unsupported {
             fmu: name.clone(),
             message,
         };
+        if model_description.fmi_version.starts_with('3') {
+            return Err(unsupported(
+                "an FMI 3.0 FMU: load it with fmi_import::AnyFmu (Fmu loads FMI 2.0 FMUs)".into(),
+            ));
+        }
         let library_path = dir.path().join(&relative);
         let functions = Library::load(&library_path).map_err(|e| match e {
             LoadError::Open(message) => FmiError::Library {

@@ -6,7 +6,7 @@
 
 use super::protocol::{read_frame, write_frame, In, Op, Out};
 use crate::participant::FmiCalls;
-use crate::{Fmu, InstantiateOptions, LocalInstance};
+use crate::{AnyFmu, InstantiateOptions};
 use std::io::{self, BufReader, BufWriter, Write};
 
 /// Serves one FMU instance until the input ends; the process's exit code.
@@ -28,7 +28,7 @@ pub fn serve() -> i32 {
     };
     let mut out = BufWriter::new(replies);
     let mut input = BufReader::new(io::stdin().lock());
-    let mut instance: Option<LocalInstance> = None;
+    let mut instance: Option<Box<dyn FmiCalls>> = None;
     // a failure of a call without a reply, told with the next reply
     let mut pending: Option<String> = None;
     loop {
@@ -86,21 +86,22 @@ fn reply_channel() -> io::Result<std::fs::File> {
 }
 
 /// One request: the values of its reply, or the message of its failure.
-fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<Out, String> {
+fn handle(op: Op, msg: &mut In, instance: &mut Option<Box<dyn FmiCalls>>) -> Result<Out, String> {
     if op == Op::Load {
         let path = msg.str()?;
         let name = msg.str()?;
         let echo_log = msg.u8()? != 0;
-        let fmu = Fmu::load(&path).map_err(|e| e.to_string())?;
+        let fmu = AnyFmu::load(&path).map_err(|e| e.to_string())?;
         let options = InstantiateOptions {
             echo_log,
             ..InstantiateOptions::component(&name)
         };
-        let inst = fmu.instantiate(&options).map_err(|e| e.to_string())?;
-        *instance = Some(LocalInstance::new(inst));
+        *instance = Some(fmu.instantiate_calls(&options).map_err(|e| e.to_string())?);
         return Ok(Out::default());
     }
-    let inst = instance.as_mut().ok_or("the worker has no instance yet")?;
+    let inst = instance
+        .as_deref_mut()
+        .ok_or("the worker has no instance yet")?;
     let none = Out::default();
     match op {
         Op::Load => unreachable!("handled above"),
@@ -165,7 +166,7 @@ fn handle(op: Op, msg: &mut In, instance: &mut Option<LocalInstance>) -> Result<
 }
 
 /// `fmi2DoStep`, with `noSetFMUStatePriorToCurrentPoint` set when `last`.
-fn step(inst: &mut LocalInstance, t: f64, h: f64, last: bool) -> Result<bool, String> {
+fn step(inst: &mut dyn FmiCalls, t: f64, h: f64, last: bool) -> Result<bool, String> {
     if last {
         inst.do_step_final(t, h)
     } else {

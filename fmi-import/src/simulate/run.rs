@@ -13,11 +13,10 @@ use super::start_values::{
 use super::{auto_interval, isclose, RunEnd, SimulateError, SimulationResult};
 use crate::archive::fmu_display_name;
 use crate::remote::{RemoteInstance, WorkerOptions};
-use crate::{FmiCalls, Fmu, InstantiateOptions, LocalInstance};
+use crate::{AnyFmu, FmiCalls, Fmu, InstantiateOptions};
 use model_description::ModelDescription;
 use std::io::Write;
 use std::path::Path;
-use std::sync::Arc;
 
 /// Most communication steps of one run.
 pub const MAX_STEPS: f64 = 1e7;
@@ -42,7 +41,7 @@ pub struct SimulationOptions {
 
 /// Run `fmu` once as described in the module documentation, keeping the rows in memory.
 pub fn simulate(
-    fmu: &Arc<Fmu>,
+    fmu: &AnyFmu,
     options: &SimulationOptions,
 ) -> Result<SimulationResult, SimulateError> {
     in_process(fmu, options, None)
@@ -51,7 +50,7 @@ pub fn simulate(
 /// Run `fmu` once, writing the CSV (header, then each row as it is sampled) to `out`, so
 /// that an interrupted or failed run keeps what was computed. The result holds no rows.
 pub fn simulate_into(
-    fmu: &Arc<Fmu>,
+    fmu: &AnyFmu,
     options: &SimulationOptions,
     out: &mut dyn Write,
 ) -> Result<SimulationResult, SimulateError> {
@@ -87,16 +86,15 @@ pub fn simulate_isolated_into(
 }
 
 fn in_process(
-    fmu: &Arc<Fmu>,
+    fmu: &AnyFmu,
     options: &SimulationOptions,
     out: Option<&mut dyn Write>,
 ) -> Result<SimulationResult, SimulateError> {
     let instantiate = || -> Result<Box<dyn FmiCalls>, SimulateError> {
-        let inst = fmu.instantiate(&InstantiateOptions {
+        Ok(fmu.instantiate_calls(&InstantiateOptions {
             echo_log: options.echo_log,
             ..InstantiateOptions::default()
-        })?;
-        Ok(Box::new(LocalInstance::new(inst)))
+        })?)
     };
     run(
         fmu.model_description(),

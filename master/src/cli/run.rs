@@ -32,6 +32,10 @@ pub struct RunArgs {
     /// Print the whole `summary.json` on standard output instead of the short summary.
     #[arg(long)]
     pub json: bool,
+    /// With `--solver cosim`: FMI 2.0 (2) or FMI 3.0 (3) FMUs (default: the scenario's
+    /// `run.fmi_version`, else 2).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3))]
+    pub fmi_version: Option<u8>,
 }
 
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -40,6 +44,15 @@ pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         args.solver.as_deref(),
         args.speed_kmh,
     )?;
+    if let Some(v) = args.fmi_version {
+        if scenario.run.solver != crate::scenario::SolverKind::Cosim {
+            return Err(format!(
+                "--fmi-version {v} applies to --solver cosim (the FMUs); this run is monolithic"
+            )
+            .into());
+        }
+        scenario.run.fmi_version = v;
+    }
     if let Some(u) = args.wind_speed {
         scenario
             .set_wind_speed(u)

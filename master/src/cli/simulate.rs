@@ -8,7 +8,7 @@ use fmi_import::simulate::{
     simulate_into, simulate_isolated_into, InputTable, RunEnd, SimulateError, SimulationOptions,
     SimulationResult,
 };
-use fmi_import::Fmu;
+use fmi_import::AnyFmu;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
@@ -57,7 +57,7 @@ pub struct SimulateArgs {
 
 /// The FMU, loaded here (`--in-process`) or to be run by a worker.
 enum Runner {
-    Here(std::sync::Arc<Fmu>),
+    Here(AnyFmu),
     Worker(WorkerOptions),
 }
 
@@ -85,7 +85,7 @@ pub fn run(args: SimulateArgs) -> Result<(), SimulateError> {
     let runner = match super::workers::options(args.in_process, args.fmu_timeout)
         .map_err(SimulateError::Invalid)?
     {
-        None => Runner::Here(Fmu::load(&args.fmu)?),
+        None => Runner::Here(AnyFmu::load(&args.fmu)?),
         Some(worker) => Runner::Worker(worker),
     };
     let fmu_name = fmu_display_name(&args.fmu);

@@ -111,6 +111,9 @@ impl Check<'_> {
         if r.output_every == 0 {
             return Err(self.err("run.output_every", 0, "must be at least 1"));
         }
+        if !matches!(r.fmi_version, 2 | 3) {
+            return Err(self.err("run.fmi_version", r.fmi_version, "must be 2 or 3"));
+        }
         Ok(Run {
             speed_kmh: r.speed_kmh,
             speed,
@@ -119,6 +122,7 @@ impl Check<'_> {
             free_vibration_s,
             start_x_m: r.start_x_m,
             output_every: r.output_every,
+            fmi_version: r.fmi_version,
         })
     }
 

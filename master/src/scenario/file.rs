@@ -42,6 +42,8 @@ pub(super) struct FileRun {
     pub(super) start_x_m: Option<f64>,
     #[serde(default = "default_every")]
     pub(super) output_every: usize,
+    #[serde(default = "default_fmi_version")]
+    pub(super) fmi_version: u8,
 }
 
 pub(super) fn default_dt() -> f64 {
@@ -52,6 +54,9 @@ pub(super) fn default_free() -> f64 {
 }
 pub(super) fn default_every() -> usize {
     1
+}
+pub(super) fn default_fmi_version() -> u8 {
+    2
 }
 
 /// `[bridge]`: one table for all kinds; keys that do not belong to the kind are refused.

@@ -271,6 +271,8 @@ pub struct Run {
     pub start_x_m: Option<f64>,
     /// Write every n-th step to `history.csv` (≥ 1). Default 1.
     pub output_every: usize,
+    /// FMI version of the FMUs of `solver = "cosim"`: 2 (FMI 2.0) or 3 (FMI 3.0). Default 2.
+    pub fmi_version: u8,
 }
 
 /// `[bridge]`, by kind.

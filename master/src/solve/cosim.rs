@@ -16,19 +16,20 @@ use tbi_coupling::{
 };
 use tbi_dynamics::response::{Recorder, Sample};
 
-/// Run the model by co-simulation of its two FMUs (exported into `fmu_dir`); returns the
-/// `coupling` part of the summary.
+/// Run the model by co-simulation of its two FMUs (exported into `fmu_dir` as FMI
+/// `version` 2 or 3); returns the `coupling` part of the summary.
 pub fn run_cosim<W: std::io::Write>(
     cfg: &CouplingConfig,
     model: &Model,
-    fmu_dir: &Path,
+    (fmu_dir, version): (&Path, u8),
     rec: &mut Recorder<W>,
     show_progress: bool,
 ) -> Result<CouplingSummary, Box<dyn std::error::Error>> {
     // One co-simulation code path: the FMUs are run as the exported SSP system (its
     // description, with the FMUs written beside the archive), as `tbi cosim system.ssp`
     // runs it.
-    let exported = crate::fmus::export::export_with(model, cfg, fmu_dir, true, Default::default())?;
+    let version = crate::fmus::export::FmiVersion::from_major(version)?;
+    let exported = crate::fmus::export::export_with(model, cfg, fmu_dir, true, version)?;
     let t_end = model.t_end();
     let open = tbi_ssp::open_exported(&exported.ssd, &exported.ssp)?;
     let mut sys = tbi_ssp::wire(&open, &[], 0.0, t_end)?.system;

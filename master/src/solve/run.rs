@@ -72,7 +72,7 @@ pub fn run_scenario(
         SolverKind::Cosim => crate::solve::cosim::run_cosim(
             &scenario.coupling,
             &model,
-            &out.join("fmus"),
+            (&out.join("fmus"), scenario.run.fmi_version),
             &mut rec,
             show_progress,
         )
@@ -148,7 +148,7 @@ pub fn run_maxima(
             Some(crate::solve::cosim::run_cosim(
                 &scenario.coupling,
                 &model,
-                &tmp.path().join("fmus"),
+                (&tmp.path().join("fmus"), scenario.run.fmi_version),
                 &mut rec,
                 false,
             )?)

@@ -17,7 +17,7 @@ pub(super) fn convert(raw: RawModelDescription, lines: &SourceLines) -> R<ModelD
     let fmi_version = required(raw.fmi_version, "fmiVersion", root).map_err(&in_root)?;
     if fmi_version != "2.0" {
         return Err(in_root(format!(
-            "fmiVersion=\"{fmi_version}\" is not supported (only FMI 2.0 descriptions are read)"
+            "fmiVersion=\"{fmi_version}\" is not supported (FMI 2.0 and 3.0 descriptions are read)"
         )));
     }
     let model_name = required(raw.model_name, "modelName", root).map_err(&in_root)?;

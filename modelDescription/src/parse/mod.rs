@@ -68,6 +68,9 @@ impl ModelDescription {
     /// from) is named in every error.
     pub fn parse(xml: &str, origin: &str) -> Result<Self, Error> {
         let xml = xml.strip_prefix('\u{feff}').unwrap_or(xml);
+        if is_fmi3(xml) {
+            return crate::fmi3_read::parse_fmi3(xml, origin);
+        }
         let (vendor_annotations, lines) = scan(xml, origin)?;
         let raw: RawModelDescription = quick_xml::de::from_str(xml)
             .map_err(|e| Error::new(origin, format!("unexpected document structure: {e}")))?;
@@ -76,4 +79,17 @@ impl ModelDescription {
         md.source_lines = lines;
         Ok(md)
     }
+}
+
+/// Whether the root element says `fmiVersion="3…"` (read by [`crate::fmi3_read`]).
+fn is_fmi3(xml: &str) -> bool {
+    let Some(start) = xml.find("<fmiModelDescription") else {
+        return false;
+    };
+    let tag = &xml[start..];
+    let tag = &tag[..tag.find('>').unwrap_or(tag.len())];
+    tag.split("fmiVersion")
+        .nth(1)
+        .map(|rest| rest.trim_start().trim_start_matches('=').trim_start())
+        .is_some_and(|v| v.starts_with("\"3") || v.starts_with("'3"))
 }

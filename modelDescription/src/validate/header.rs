@@ -8,7 +8,8 @@ impl ModelDescription {
     pub(super) fn validate_header(&self, problems: &mut Vec<String>) {
         let lines = &self.source_lines;
         let root = SourceLines::prefix(lines.root);
-        if self.fmi_version != "2.0" {
+        // an FMI 3.0 description is read into these types (its own reader checks the version)
+        if self.fmi_version != "2.0" && !self.fmi_version.starts_with("3.") {
             problems.push(format!(
                 "{root}fmiVersion is \"{}\" but must be \"2.0\".",
                 self.fmi_version
@@ -18,7 +19,12 @@ impl ModelDescription {
             problems.push(format!("{root}modelName is empty."));
         }
         if self.guid.trim().is_empty() {
-            problems.push(format!("{root}guid is empty."));
+            let token = if self.fmi_version.starts_with('3') {
+                "instantiationToken"
+            } else {
+                "guid"
+            };
+            problems.push(format!("{root}{token} is empty."));
         }
         if self.model_exchange.is_none() && self.co_simulation.is_none() {
             problems.push(format!(

@@ -59,6 +59,13 @@ impl ModelDescription {
         let mut independent = Vec::new();
         // (space, vr) -> indices of the variables sharing it
         let mut references: BTreeMap<(&str, u32), Vec<usize>> = BTreeMap::new();
+        // an FMI 3.0 <Alias> takes its start value from its variable (read as a variable of
+        // its own without one): the alias sets with a start value
+        let fmi3 = self.fmi_version.starts_with('3');
+        let started: std::collections::HashSet<(&str, u32)> = (self.model_variables.iter())
+            .filter(|v| fmi3 && v.has_start())
+            .map(|v| (reference_space(&v.kind), v.value_reference))
+            .collect();
 
         for (i, v) in self.model_variables.iter().enumerate() {
             let what = format!(
@@ -77,7 +84,8 @@ impl ModelDescription {
             if v.causality == Causality::Independent {
                 independent.push(i);
             }
-            check_kind_and_start(problems, &what, v);
+            let aliased = started.contains(&(reference_space(&v.kind), v.value_reference));
+            check_kind_and_start(problems, &what, v, aliased);
             let declared_def = self.check_declared_type(problems, &what, v);
             self.check_variable_values(problems, &what, v, declared_def);
         }
@@ -280,7 +288,9 @@ impl ModelDescription {
 
 /// Base-type and variability, start values and the causality / variability / initial
 /// combination of one variable.
-fn check_kind_and_start(problems: &mut Vec<String>, what: &str, v: &ScalarVariable) {
+/// The type's variability, and a start value where one is needed (`aliased`: its alias set
+/// has one).
+fn check_kind_and_start(problems: &mut Vec<String>, what: &str, v: &ScalarVariable, aliased: bool) {
     if !matches!(v.kind, VariableKind::Real(_)) && v.variability == Variability::Continuous {
         problems.push(format!(
             "{what}: is of type {} and must have variability other than \"continuous\".",
@@ -291,6 +301,7 @@ fn check_kind_and_start(problems: &mut Vec<String>, what: &str, v: &ScalarVariab
     if (matches!(initial, Some(Initial::Exact | Initial::Approx))
         || v.causality == Causality::Input)
         && !v.has_start()
+        && !aliased
     {
         problems.push(format!("{what}: has no start value."));
     }
