@@ -152,12 +152,15 @@ impl Fmu3 {
             return Err(unsupported("not an FMI 3.0 FMU".into()));
         }
         let library_path: PathBuf = dir.path().join(&relative);
-        // SAFETY: loading the FMU's own library runs its initialisers, as any importer does.
+        let needs_tool =
+            (model_description.co_simulation.as_ref()).is_some_and(|cs| cs.needs_execution_tool);
         let library =
-            unsafe { libloading::Library::new(&library_path) }.map_err(|e| FmiError::Library {
-                fmu: name.clone(),
-                library: relative.clone(),
-                message: e.to_string(),
+            crate::library::open_fmu_library(&library_path, needs_tool).map_err(|message| {
+                FmiError::Library {
+                    fmu: name.clone(),
+                    library: relative.clone(),
+                    message,
+                }
             })?;
         // SAFETY: an FMI 3.0 FMU's library (its description says so).
         let functions =

@@ -48,8 +48,13 @@ impl Library {
     /// Loading runs the library's initialisers and the resolved pointers are trusted to
     /// have the fmi2 signatures: the library must be an FMU binary, as for any importer.
     pub fn load(path: &Path) -> Result<Library, LoadError> {
-        check_binary(path).map_err(LoadError::Open)?;
-        let library = open(path).map_err(|e| LoadError::Open(e.to_string()))?;
+        Self::load_for(path, false)
+    }
+
+    /// [`Library::load`] for an FMU whose description says `needsExecutionTool`: see
+    /// [`open_fmu_library`].
+    pub fn load_for(path: &Path, needs_execution_tool: bool) -> Result<Library, LoadError> {
+        let library = open_fmu_library(path, needs_execution_tool).map_err(LoadError::Open)?;
         // SAFETY: an FMU binary; FMI 2.0 fixes the exported signatures.
         let functions = unsafe { Functions::load(&library) }.map_err(LoadError::MissingSymbols)?;
         Ok(Library {
@@ -168,6 +173,73 @@ pub fn check_binary(path: &Path) -> Result<(), String> {
         )));
     }
     Ok(())
+}
+
+/// Check and open an FMU's shared library. When it cannot be opened and the FMU needs an
+/// execution tool, the tool may be Python: the libraries of pythonfmu and pythonfmu3 FMUs
+/// leave the Python C API to the process that loads them (FMPy, being Python, has it).
+/// Then the Python library is loaded into this process with its symbols global
+/// ([`load_python`]) and the FMU's library opened again.
+pub fn open_fmu_library(
+    path: &Path,
+    needs_execution_tool: bool,
+) -> Result<libloading::Library, String> {
+    check_binary(path)?;
+    match open(path) {
+        Ok(library) => Ok(library),
+        Err(first) if needs_execution_tool => {
+            let first = describe(&first);
+            load_python().map_err(|why| {
+                format!(
+                    "{first} (the FMU needs an execution tool; Python could not be loaded: {why})"
+                )
+            })?;
+            open(path).map_err(|e| describe(&e))
+        }
+        Err(e) => Err(describe(&e)),
+    }
+}
+
+/// A loading error with its cause (`dlerror`'s text).
+fn describe(e: &libloading::Error) -> String {
+    match std::error::Error::source(e) {
+        Some(cause) => format!("{e}: {cause}"),
+        None => e.to_string(),
+    }
+}
+
+/// Loads the shared Python library into this process, its symbols global, once: that of
+/// the interpreter `$TBI_PYTHON`, else `python3` on the PATH (asked for its `LIBDIR` and
+/// `INSTSONAME`).
+pub fn load_python() -> Result<(), String> {
+    static LOADED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    LOADED
+        .get_or_init(|| {
+            let python = std::env::var("TBI_PYTHON").unwrap_or_else(|_| "python3".into());
+            let out = std::process::Command::new(&python)
+                .args([
+                    "-c",
+                    "import os, sysconfig as s; print(os.path.join(s.get_config_var('LIBDIR'), s.get_config_var('INSTSONAME')))",
+                ])
+                .output()
+                .map_err(|e| format!("cannot run {python}: {e}"))?;
+            let lib = String::from_utf8_lossy(&out.stdout).trim().to_owned();
+            if !out.status.success() || lib.is_empty() {
+                return Err(format!("{python} did not name its shared library"));
+            }
+            #[cfg(unix)]
+            {
+                use libloading::os::unix::{Library, RTLD_GLOBAL, RTLD_NOW};
+                // SAFETY: the Python library's initialisers; it stays loaded for the process.
+                let library = unsafe { Library::open(Some(&lib), RTLD_NOW | RTLD_GLOBAL) }
+                    .map_err(|e| format!("{lib}: {}", describe(&e)))?;
+                std::mem::forget(library);
+                Ok(())
+            }
+            #[cfg(not(unix))]
+            Err(format!("{lib}: Python is loaded for FMUs on Unix only"))
+        })
+        .clone()
 }
 
 fn open(path: &Path) -> Result<libloading::Library, libloading::Error> {

@@ -5,6 +5,9 @@
 //!   Int32 and Boolean, driven by an input file) under `tbi simulate`, in a worker and in
 //!   process, equal `fmpy simulate` of the same FMU to 1e-9 of each column's largest value
 //!   (integers and booleans exactly);
+//! * an FMU of another exporter, pythonfmu3 from PyPI (tests/python/lag_fmu3.py, built by
+//!   the test; its library takes the Python C API from the process, which loads Python
+//!   for it), under `tbi simulate` gives `fmpy simulate`'s CSV to 1e-9;
 //! * the FMI 3.0 VanDerPol driving the FMI 2.0 C oscillator (tests/c-fmu) in an SSD under
 //!   `tbi cosim` with the implicit scheme (which saves and restores both FMUs' states)
 //!   gives the bytes of the same system with VanDerPol built as FMI 2.0 from the same C code.
@@ -212,4 +215,58 @@ fn an_fmi3_fmu_beside_an_fmi2_one_under_tbi_cosim() {
         cosim(&three, "three-in-process.csv", &["--in-process"]) == reference,
         "FMI 3.0 VanDerPol in process differs"
     );
+}
+
+#[test]
+fn a_pythonfmu3_fmu_under_tbi_simulate_equals_fmpy() {
+    let Some(venv) = fmpy::venv() else {
+        return;
+    };
+    let dir = scratch("pythonfmu3");
+    run_ok(
+        Command::new(venv.join("bin/pythonfmu3"))
+            .arg("build")
+            .arg("-f")
+            .arg(repo_path("tests/python/lag_fmu3.py"))
+            .arg("--dest")
+            .arg(&dir),
+    );
+    let fmu = dir.join("Lag.fmu");
+    run_ok(
+        fmpy(venv)
+            .arg("simulate")
+            .arg(&fmu)
+            .args([
+                "--stop-time",
+                "2",
+                "--output-interval",
+                "0.01",
+                "--output-file",
+            ])
+            .arg(dir.join("fmpy.csv")),
+    );
+    for (label, isolation) in [("worker", None), ("in process", Some("--in-process"))] {
+        let out = dir.join(format!("tbi-{}.csv", label.replace(' ', "-")));
+        run_ok(
+            tbi_command()
+                .arg("simulate")
+                .arg(&fmu)
+                .args([
+                    "--quiet",
+                    "--stop-time",
+                    "2",
+                    "--step-size",
+                    "0.01",
+                    "--output",
+                ])
+                .arg(&out)
+                .args(isolation)
+                .env("TBI_PYTHON", venv.join("bin/python")),
+        );
+        assert_same_results(
+            &dir.join("fmpy.csv"),
+            &out,
+            &format!("pythonfmu3 ({label})"),
+        );
+    }
 }

@@ -2,7 +2,8 @@
 # Create (once) the Python virtual environment with the pinned FMPy that the comparison
 # tests run as the reference importer, the pinned libcosimpy (libcosim) the
 # interoperability test runs the exported SSP in, and what the Python package's tests use
-# (pandas, dask.distributed, pytest, and maturin, which builds the package from python/).
+# (pandas, dask.distributed, pytest, and maturin, which builds the package from python/),
+# and pythonfmu3, which builds an FMI 3.0 FMU from Python for the importer's tests.
 #
 #   tests/python/setup-venv.sh          # venv at "${TBI_VENV:-<repo>/target/venv}"
 #
@@ -15,7 +16,8 @@ FMPY_VERSION="0.3.32"
 LIBCOSIMPY_VERSION="0.0.6"
 # The Python package's tests (tests/python/package) and its build.
 PINS=("fmpy==$FMPY_VERSION" "libcosimpy==$LIBCOSIMPY_VERSION" "pandas==3.1.1"
-    "dask==2026.8.0" "distributed==2026.8.0" "pytest==9.2.0" "maturin==1.16.0")
+    "dask==2026.8.0" "distributed==2026.8.0" "pytest==9.2.0" "maturin==1.16.0"
+    "pythonfmu3==0.3.4")
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 VENV="${TBI_VENV:-$REPO/target/venv}"

@@ -153,7 +153,9 @@ impl Fmu {
             ));
         }
         let library_path = dir.path().join(&relative);
-        let functions = Library::load(&library_path).map_err(|e| match e {
+        let needs_tool =
+            (model_description.co_simulation.as_ref()).is_some_and(|cs| cs.needs_execution_tool);
+        let functions = Library::load_for(&library_path, needs_tool).map_err(|e| match e {
             LoadError::Open(message) => FmiError::Library {
                 fmu: name.clone(),
                 library: relative.clone(),
