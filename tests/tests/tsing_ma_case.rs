@@ -4,7 +4,8 @@
 //!   displacement maxima within 10 % of the paper's Table 2, increasing with speed as in the
 //!   paper; derail and offload maxima below the 0.8 / 0.6 limits; the table files written.
 //! * `tbi run` (the main job: co-simulation of the two FMUs) at 70 km/h equals the monolithic
-//!   solver at the scenario's interface tolerance, with the plots of Figures 8–11 written.
+//!   solver at the scenario's interface tolerance, with the plots of Figures 8–11 written,
+//!   and through the FMI 3.0 FMUs gives the same history.
 mod common;
 use common::tbi;
 use std::process::Command;
@@ -121,5 +122,18 @@ fn default_cosimulation_equals_monolithic() {
     assert!(
         rel < 1.3e-7,
         "co-simulation differs from monolithic in {column} by {rel:e}"
+    );
+    // through the FMI 3.0 FMUs (the same binaries): the same history, row for row
+    let co3 = scratch("tsing-ma-cosim-fmi3");
+    run_ok(
+        Command::new(tbi())
+            .args(["run", "--quiet", "--fmi-version", "3", "--out"])
+            .arg(&co3),
+    );
+    let c = Table::read(&co3.join("history.csv"));
+    assert_eq!(c.columns, a.columns);
+    assert!(
+        c.rows == a.rows,
+        "the FMI 3.0 co-simulation differs from the FMI 2.0 one"
     );
 }
