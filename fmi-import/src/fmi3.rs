@@ -306,6 +306,7 @@ unsafe extern "C" fn log_message(
         status: crate::Status::from_raw(status),
         category: text(category),
         message: text(message),
+        fmi_version: 3,
     });
 }
 

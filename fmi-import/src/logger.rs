@@ -71,6 +71,7 @@ impl LogSink {
                 status: None,
                 category: "tbi".into(),
                 message: format!("{} further messages were not kept", log.dropped),
+                fmi_version: messages.last().map_or(2, |m| m.fmi_version),
             });
         }
         log.dropped = 0;
@@ -117,6 +118,7 @@ mod tests {
                 status: Some(Status::Ok),
                 category: "c".into(),
                 message: i.to_string(),
+                fmi_version: 2,
             });
         }
         let messages = sink.take_call_messages();

@@ -28,6 +28,9 @@ pub struct LogMessage {
     pub category: String,
     /// The expanded message (empty for a NULL format).
     pub message: String,
+    /// The FMI version of the FMU (2, or 3 for an FMI 3.0 FMU's `fmi3LogMessageCallback`):
+    /// the status is shown with its name (`fmi2OK`, `fmi3OK`).
+    pub fmi_version: u8,
 }
 
 impl LogMessage {
@@ -40,6 +43,10 @@ impl LogMessage {
 impl fmt::Display for LogMessage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let status = self.status.map_or("fmi2<illegal status>", Status::name);
+        let status = match self.fmi_version {
+            3 => status.replacen("fmi2", "fmi3", 1),
+            _ => status.to_owned(),
+        };
         write!(
             f,
             "[{}] {status} [{}] {}",
@@ -160,6 +167,7 @@ unsafe extern "C" fn forward<R: LogReceiver>(
             status: Status::from_raw(status),
             category: text(category),
             message: text(message),
+            fmi_version: 2,
         });
     }));
 }
@@ -276,12 +284,22 @@ mod tests {
                 status: Some(Status::Error),
                 category: "logStatusError".into(),
                 message: "t=0.5 h=0.250 n=42 s=word".into(),
+                fmi_version: 2,
             }]
         );
         assert!(messages[0].is_error());
         assert_eq!(
             messages[0].to_string(),
             "[inst] fmi2Error [logStatusError] t=0.5 h=0.250 n=42 s=word"
+        );
+        // an FMI 3.0 FMU's message names its status as FMI 3.0 does
+        let three = LogMessage {
+            fmi_version: 3,
+            ..messages[0].clone()
+        };
+        assert_eq!(
+            three.to_string(),
+            "[inst] fmi3Error [logStatusError] t=0.5 h=0.250 n=42 s=word"
         );
     }
 
