@@ -158,8 +158,8 @@ pub(crate) fn figure(path: &Path, panels: &[Panel<'_>], t: &[f64]) -> Result<(),
 }
 
 /// Write the run's plots next to its history; `case` (e.g. "tsing-ma, 70 km/h") goes into
-/// every title. The lateral deck figure only where the deck moves sideways. Readable units: deck vertical displacement in cm, lateral in mm,
-/// accelerations in cm/s².
+/// every title. The lateral deck figure only where the deck moves sideways. The units are
+/// those of the short summary: displacements in mm, accelerations in m/s².
 pub fn write_run_plots(
     out: &Path,
     model: &Model,
@@ -195,13 +195,13 @@ pub fn write_run_plots(
             &[
                 (
                     vd.as_str(),
-                    "cm",
-                    probe_series("vertical_displacement_m", 100.0),
+                    "mm",
+                    probe_series("vertical_displacement_m", 1000.0),
                 ),
                 (
                     va.as_str(),
-                    "cm/s²",
-                    probe_series("vertical_acceleration_m_s2", 100.0),
+                    "m/s²",
+                    probe_series("vertical_acceleration_m_s2", 1.0),
                 ),
             ],
             &t,
@@ -211,7 +211,7 @@ pub fn write_run_plots(
         // earlier run into the same folder.
         let lateral = [
             probe_series("lateral_displacement_m", 1000.0),
-            probe_series("lateral_acceleration_m_s2", 100.0),
+            probe_series("lateral_acceleration_m_s2", 1.0),
         ];
         let path = out.join("deck_lateral.svg");
         if lateral
@@ -222,7 +222,7 @@ pub fn write_run_plots(
             let [d, a] = lateral;
             figure(
                 &path,
-                &[(ld.as_str(), "mm", d), (la.as_str(), "cm/s²", a)],
+                &[(ld.as_str(), "mm", d), (la.as_str(), "m/s²", a)],
                 &t,
             )?;
         } else {
@@ -238,18 +238,15 @@ pub fn write_run_plots(
     if let Some(c) = h.column("veh1.lateral_acceleration_m_s2") {
         veh.push((
             cl.as_str(),
-            "cm/s²",
-            vec![("lateral".to_string(), c.iter().map(|v| 100.0 * v).collect())],
+            "m/s²",
+            vec![("lateral".to_string(), c.to_vec())],
         ));
     }
     if let Some(c) = h.column("veh1.vertical_acceleration_m_s2") {
         veh.push((
             cv.as_str(),
-            "cm/s²",
-            vec![(
-                "vertical".to_string(),
-                c.iter().map(|v| 100.0 * v).collect(),
-            )],
+            "m/s²",
+            vec![("vertical".to_string(), c.to_vec())],
         ));
     }
     if !veh.is_empty() {
