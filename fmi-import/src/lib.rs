@@ -1,5 +1,8 @@
-//! FMI 2.0 Co-Simulation importer: load any FMU, call it safely, run it alone, and check
-//! an exporter's C ABI.
+//! FMI 2.0 and FMI 3.0 Co-Simulation importer: load any FMU, call it safely, run it alone,
+//! and check an exporter's C ABI. FMI 3.0 FMUs are [`fmi3::Fmu3`]s (the same unpacking and
+//! description checks, their library under `binaries/x86_64-linux/`); [`AnyFmu`] loads an
+//! FMU of either version, and both are called through [`FmiCalls`]. What follows describes
+//! the FMI 2.0 path.
 //!
 //! [`Fmu::load`] takes an `.fmu` file through these steps, each failing with an
 //! [`FmiError`] that names the FMU (its file name) and what went wrong:

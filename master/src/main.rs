@@ -10,7 +10,7 @@ use std::process::ExitCode;
 #[command(
     name = "tbi",
     version,
-    about = "Train–bridge dynamic interaction: monolithic solver, FMI 2.0 FMUs and co-simulation master"
+    about = "Train–bridge dynamic interaction: monolithic solver, FMI 2.0/3.0 FMUs and co-simulation master"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -21,7 +21,7 @@ struct Cli {
 enum Command {
     /// Simulate a scenario (default: the embedded Tsing Ma case) and write summary.json, history.csv and plots.
     Run(tbi::cli::run::RunArgs),
-    /// Package a scenario's bridge and train as FMI 2.0 Co-Simulation FMUs plus an SSP system.
+    /// Package a scenario's bridge and train as FMI 2.0 (or 3.0) Co-Simulation FMUs plus an SSP system.
     Export(tbi::cli::export::ExportArgs),
     /// The bridge's modes: table, modes file and plots of the first shapes.
     Modes(tbi::cli::modes::ModesArgs),
@@ -34,9 +34,9 @@ enum Command {
     },
     /// Speed measurements (monolithic, co-simulation, FE modes, sweep).
     Bench(tbi::cli::bench::BenchArgs),
-    /// Run any FMI 2.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
+    /// Run any FMI 2.0 or 3.0 Co-Simulation FMU alone (same defaults and CSV layout as `fmpy simulate`).
     Simulate(tbi::cli::simulate::SimulateArgs),
-    /// Run an SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the coupling algorithms.
+    /// Run an SSP 1.0 system of FMI 2.0 and 3.0 Co-Simulation FMUs with the coupling algorithms.
     Cosim(tbi::cli::cosim::CosimArgs),
     /// Run a scenario both ways (FMUs and monolithic) and report their differences.
     Validate(tbi::cli::validate::ValidateArgs),

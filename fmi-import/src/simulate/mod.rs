@@ -1,4 +1,4 @@
-//! The single-FMU runner behind `tbi simulate`: run one FMI 2.0 Co-Simulation FMU alone.
+//! The single-FMU runner behind `tbi simulate`: run one FMI 2.0 or 3.0 Co-Simulation FMU alone.
 //!
 //! The run reproduces `fmpy simulate` (FMPy 0.3.x, `simulate_fmu` → `simulateCS`) step
 //! for step, so that both give the same CSV for the same FMU:

@@ -1,4 +1,4 @@
-//! `tbi cosim SYSTEM.ssp`: run any SSP 1.0 system of FMI 2.0 Co-Simulation FMUs with the
+//! `tbi cosim SYSTEM.ssp`: run any SSP 1.0 system of FMI 2.0 and 3.0 Co-Simulation FMUs with the
 //! coupling algorithms of [`tbi_coupling`] (see [`tbi_ssp`] for what is read).
 //!
 //! Times and step: the command line, else the SSD (`DefaultExperiment`, and `step_size`

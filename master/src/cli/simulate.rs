@@ -1,4 +1,4 @@
-//! `tbi simulate`: run one FMI 2.0 Co-Simulation FMU alone, with the runner of
+//! `tbi simulate`: run one FMI 2.0 or 3.0 Co-Simulation FMU alone, with the runner of
 //! [`fmi_import::simulate`] (its docs list the defaults, which are `fmpy simulate`'s), in a
 //! worker process of its own unless `--in-process` is given.
 
