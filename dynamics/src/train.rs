@@ -1,8 +1,15 @@
-//! A train: vehicles in a row moving at constant speed in +x.
+//! A train: vehicles in a row moving at constant speed in +x (forward) or −x (backward).
 //!
 //! Positions are measured along the track. Wheelset `w` of the train (numbered front to
 //! back over all vehicles) sits at `offset_w` behind the first axle, which is at `x0` at
-//! `t = 0`, so `x_w(t) = x0 + v t − offset_w`.
+//! `t = 0`, so `x_w(t) = x0 + d (v t − offset_w)` with `d = +1` forward and `−1` backward.
+//!
+//! A backward train's vehicles face −x: their own lateral axis points to −y and their roll
+//! is the deck's with the opposite sign, so each vehicle is used mirrored
+//! ([`crate::vehicle::LinearVehicle::mirrored`]: its rail degrees of freedom Y, θ, Z seen
+//! through S = diag(−1, −1, 1)), and its wheel hunting, a lateral motion in the vehicle's
+//! frame, enters the deck's frame as −Y_h. The vehicle then moves in its own frame exactly
+//! as a forward one does over the deck turned end for end.
 
 mod description;
 
@@ -56,6 +63,32 @@ impl From<Speed> for f64 {
     }
 }
 
+/// The direction a train runs in along the track.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TravelDirection {
+    /// Towards +x.
+    #[default]
+    Forward,
+    /// Towards −x.
+    Backward,
+}
+
+impl TravelDirection {
+    /// Whether it is [`TravelDirection::Forward`].
+    pub fn is_forward(&self) -> bool {
+        *self == TravelDirection::Forward
+    }
+
+    /// `+1` forward, `−1` backward.
+    pub fn sign(self) -> f64 {
+        match self {
+            TravelDirection::Forward => 1.0,
+            TravelDirection::Backward => -1.0,
+        }
+    }
+}
+
 /// One vehicle of a train.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrainVehicle {
@@ -81,6 +114,8 @@ pub struct Train {
     pub speed_m_s: f64,
     /// Position of the first axle at t = 0, m.
     pub x0_m: f64,
+    /// The direction of travel (the vehicles of a backward train are mirrored).
+    pub direction: TravelDirection,
     /// Wheel hunting of every wheelset.
     pub hunting: tbi_track::WheelHunting,
     /// The wind on the car bodies beyond their static loads (None: still air, or a steady
@@ -142,7 +177,26 @@ impl Train {
     /// Position of a wheelset at offset `offset_m` at time `t`, m.
     #[inline]
     pub fn x_at(&self, offset_m: f64, t: f64) -> f64 {
-        self.x0_m + self.speed_m_s * t - offset_m
+        match self.direction {
+            TravelDirection::Forward => self.x0_m + self.speed_m_s * t - offset_m,
+            TravelDirection::Backward => self.x0_m - self.speed_m_s * t + offset_m,
+        }
+    }
+
+    /// The velocity along x, m/s: the speed, negative for a backward train.
+    #[inline]
+    pub fn vx(&self) -> f64 {
+        self.direction.sign() * self.speed_m_s
+    }
+
+    /// The hunting motion `(Y_h, Ẏ_h, Ÿ_h)` of wheelset `w` at `t` in the deck's frame.
+    pub fn hunting_at(&self, w: usize, t: f64) -> [f64; 3] {
+        let v = self.speed_m_s;
+        let h = crate::track::hunting_motion(&self.hunting, w, v * t, v);
+        match self.direction {
+            TravelDirection::Forward => h,
+            TravelDirection::Backward => h.map(|x| -x),
+        }
     }
 
     /// Distance of vehicle `i`'s centre (the mean of its wheelsets) behind the first axle, m.

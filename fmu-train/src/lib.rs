@@ -254,7 +254,7 @@ impl TrainFmu {
             // In the order of layout::WHEEL_OUT.
             self.outputs[l.wheel_out.slots(w)].copy_from_slice(&[
                 side.x(w, t),
-                side.train.speed_m_s,
+                side.train.vx(),
                 f.x,
                 f.y,
                 f.z,

@@ -135,8 +135,8 @@ pub fn rail_prescribed(
     x: f64,
     t: f64,
 ) -> [Vector3<f64>; 3] {
-    let h = crate::track::hunting_motion(&train.hunting, w, train.speed_m_s * t, train.speed_m_s);
-    add_hunting(&rail_motion(&track.at(x), train.speed_m_s), &h)
+    let h = train.hunting_at(w, t);
+    add_hunting(&rail_motion(&track.at(x), train.vx()), &h)
 }
 
 /// `to` made to share `from`'s allocation, without touching the reference counts when it
@@ -387,6 +387,7 @@ mod tests {
             ],
             speed_m_s: 20.0,
             x0_m: 0.0,
+            direction: Default::default(),
             hunting: tbi_track::WheelHunting::new(&Default::default(), 12).unwrap(),
             wind: None,
         };

@@ -1,7 +1,7 @@
 //! A train as data ([`TrainDescription`]): what the scenario reads, the train FMU carries as
 //! its resource, and both solvers build their [`Train`] from.
 
-use super::{Speed, Train, TrainVehicle};
+use super::{Speed, Train, TrainVehicle, TravelDirection};
 use crate::vehicle::coach::CoachParams;
 use crate::vehicle::simple::{moving_force, sprung_mass, MovingForceAxle, SprungMassAxle};
 use crate::vehicle::LinearVehicle;
@@ -84,6 +84,10 @@ pub struct TrainDescription {
     pub speed_m_s: Speed,
     /// First-axle position at the start time, m.
     pub x0_m: f64,
+    /// The direction of travel. Default forward (not written then, so a forward train's
+    /// description, and the train FMU's GUID made from it, read as before).
+    #[serde(default, skip_serializing_if = "TravelDirection::is_forward")]
+    pub direction: TravelDirection,
     pub hunting: HuntingParams,
     /// A steady crosswind on the car bodies (None: still air).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -119,6 +123,24 @@ impl TrainDescription {
     /// FMU.
     pub fn build(&self, start_time: f64) -> Result<Train, String> {
         let mut vehicles = self.spec.vehicles()?;
+        if self.direction == TravelDirection::Backward {
+            if self.crosswind.is_some() {
+                return Err("a crosswind on a backward train is not supported".into());
+            }
+            // each model mirrored once, shared as before by the vehicles that share it
+            let mut done: Vec<(*const LinearVehicle, Arc<LinearVehicle>)> = Vec::new();
+            for v in &mut vehicles {
+                let key = Arc::as_ptr(&v.model);
+                v.model = match done.iter().find(|(k, _)| *k == key) {
+                    Some((_, m)) => m.clone(),
+                    None => {
+                        let m = Arc::new(v.model.mirrored());
+                        done.push((key, m.clone()));
+                        m
+                    }
+                };
+            }
+        }
         let n: usize = vehicles.iter().map(|v| v.model.wheelsets.len()).sum();
         let hunting = WheelHunting::new(&self.hunting, n).map_err(|e| format!("hunting: {e}"))?;
         let speed_m_s = self.speed_m_s.m_s();
@@ -161,7 +183,8 @@ impl TrainDescription {
         Ok(Train {
             vehicles,
             speed_m_s,
-            x0_m: self.x0_m - speed_m_s * start_time,
+            x0_m: self.x0_m - self.direction.sign() * speed_m_s * start_time,
+            direction: self.direction,
             hunting,
             wind,
         })

@@ -118,6 +118,26 @@ pub struct LinearVehicle {
 }
 
 impl LinearVehicle {
+    /// The vehicle turned end for end on the track (facing −x): its rail degrees of freedom
+    /// (Y, θ, Z) seen through S = diag(−1, −1, 1), so `K_vw S`, `C_vw S`, `S K_ww S`,
+    /// `S C_ww S`, `S p0` (the wheelset inertia is diagonal and stays). Its own degrees of
+    /// freedom, and what is reported of them, are unchanged.
+    pub fn mirrored(&self) -> LinearVehicle {
+        let s = Matrix3::from_diagonal(&Vector3::new(-1.0, -1.0, 1.0));
+        let mut v = self.clone();
+        for w in &mut v.wheelsets {
+            for col in 0..2 {
+                w.k_vw.column_mut(col).neg_mut();
+                w.c_vw.column_mut(col).neg_mut();
+            }
+            w.k_ww = s * w.k_ww * s;
+            w.c_ww = s * w.c_ww * s;
+            w.m_w = s * w.m_w * s;
+            w.p0 = s * w.p0;
+        }
+        v
+    }
+
     /// Number of free DOFs.
     pub fn ndof(&self) -> usize {
         self.m.nrows()

@@ -39,6 +39,7 @@ pub fn train_of(vehicles: Vec<(LinearVehicle, f64)>, speed: f64, x0: f64) -> Tra
             .collect(),
         speed_m_s: speed,
         x0_m: x0,
+        direction: Default::default(),
         hunting: tbi_track::WheelHunting::new(&tbi_track::HuntingParams::default(), n).unwrap(),
         wind: None,
     }

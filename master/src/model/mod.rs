@@ -308,41 +308,28 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             ));
         }
     }
-    let train_res = TrainDescription {
-        spec: s.train.spec.clone(),
-        speed_m_s: s.run.speed,
-        x0_m: s.run.start_x_m.unwrap_or(bridge.x_start_m),
-        hunting: s.train.hunting.clone(),
-        crosswind: s.wind.as_ref().map(|w| tbi_dynamics::train::Crosswind {
-            mean_speed_m_s: w.mean_speed_m_s,
-            air_density_kg_m3: w.air_density_kg_m3,
-            aero: w.vehicle.clone(),
-            on_deck: w.vehicle_on_deck.clone(),
-            deck_m: Some([bridge.x_start_m, bridge.x_end_m]),
-            turbulent: w.is_turbulent(),
-        }),
-    };
-    if train_res.x0_m >= bridge.x_end_m {
-        return Err(InputError::field(
-            &s.origin,
-            "run.start_x_m",
-            num(train_res.x0_m),
-            format!(
-                "the first axle would start beyond the deck end at {} m, so the train never crosses the bridge",
-                num(bridge.x_end_m)
-            ),
-        ));
-    }
+    let backward = s.train.direction == tbi_dynamics::train::TravelDirection::Backward;
+    let train_res = train_description(s, &bridge)?;
     let train = train_res
         .build(0.0)
         .map_err(|e| InputError::field(&s.origin, "train", s.train.kind(), &e))?;
     let (speed, x0) = (s.run.speed.m_s(), train_res.x0_m);
     let length = train.length_m();
-    let t_end = (bridge.x_end_m - x0 + length).max(0.0) / speed + s.run.free_vibration_s;
+    // the distance the first axle runs until the last has left the deck
+    let run_m = if backward {
+        x0 - bridge.x_start_m
+    } else {
+        bridge.x_end_m - x0
+    };
+    let t_end = (run_m + length).max(0.0) / speed + s.run.free_vibration_s;
     // (saturates at usize::MAX for absurd inputs; Limits::check refuses those)
     let steps = (t_end / s.run.dt_s - 1e-9).ceil().max(1.0) as usize;
-    let x_lo = x0 - length - 1.0;
-    let x_hi = x0 + speed * steps as f64 * s.run.dt_s + 1.0;
+    let travel = speed * steps as f64 * s.run.dt_s;
+    let (x_lo, x_hi) = if backward {
+        (x0 - travel - 1.0, x0 + length + 1.0)
+    } else {
+        (x0 - length - 1.0, x0 + travel + 1.0)
+    };
     let track = s.track.build(x_lo, x_hi, &s.base_dir).map_err(|e| {
         InputError::field(
             &s.origin,
@@ -404,6 +391,54 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
 }
 
 /// The irregularity spec as a user wrote it (for messages).
+/// The train's description from the scenario: it enters at the deck start (forward) or end
+/// (backward) unless `run.start_x_m` says otherwise, and must cross the deck.
+fn train_description(s: &Scenario, bridge: &ModalBridge) -> Result<TrainDescription, InputError> {
+    let backward = s.train.direction == tbi_dynamics::train::TravelDirection::Backward;
+    let train_res = TrainDescription {
+        spec: s.train.spec.clone(),
+        speed_m_s: s.run.speed,
+        x0_m: s.run.start_x_m.unwrap_or(if backward {
+            bridge.x_end_m
+        } else {
+            bridge.x_start_m
+        }),
+        direction: s.train.direction,
+        hunting: s.train.hunting.clone(),
+        crosswind: s.wind.as_ref().map(|w| tbi_dynamics::train::Crosswind {
+            mean_speed_m_s: w.mean_speed_m_s,
+            air_density_kg_m3: w.air_density_kg_m3,
+            aero: w.vehicle.clone(),
+            on_deck: w.vehicle_on_deck.clone(),
+            deck_m: Some([bridge.x_start_m, bridge.x_end_m]),
+            turbulent: w.is_turbulent(),
+        }),
+    };
+    if !backward && train_res.x0_m >= bridge.x_end_m {
+        return Err(InputError::field(
+            &s.origin,
+            "run.start_x_m",
+            num(train_res.x0_m),
+            format!(
+                "the first axle would start beyond the deck end at {} m, so the train never crosses the bridge",
+                num(bridge.x_end_m)
+            ),
+        ));
+    }
+    if backward && train_res.x0_m <= bridge.x_start_m {
+        return Err(InputError::field(
+            &s.origin,
+            "run.start_x_m",
+            num(train_res.x0_m),
+            format!(
+                "the first axle of a backward train would start before the deck start at {} m, so the train never crosses the bridge",
+                num(bridge.x_start_m)
+            ),
+        ));
+    }
+    Ok(train_res)
+}
+
 fn track_spec_text(spec: &tbi_track::IrregularitySpec) -> String {
     match spec {
         tbi_track::IrregularitySpec::None => "\"none\"".into(),

@@ -138,6 +138,8 @@ pub(super) struct FileTrain {
     pub(super) hunting: Option<HuntingParams>,
     /// `kind = "moving_force"` or `"hslm_a"`: a sprung mass under every axle.
     pub(super) vehicle: Option<toml::Table>,
+    /// `"forward"` (+x, the default) or `"backward"` (−x).
+    pub(super) direction: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Default)]

@@ -382,6 +382,9 @@ pub struct Train {
     /// already applies; kept so that `tbi sweep --trains` puts it under other trains too.
     /// Default none (moving forces).
     pub axle_vehicle: Option<AxleVehicle>,
+    /// The direction of travel: forward (+x, entering at the deck start, the default) or
+    /// backward (−x, entering at the deck end).
+    pub direction: tbi_dynamics::train::TravelDirection,
 }
 
 impl Train {

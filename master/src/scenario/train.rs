@@ -40,10 +40,23 @@ impl Check<'_> {
             .as_ref()
             .map(|table| self.axle_vehicle(t, table))
             .transpose()?;
+        use tbi_dynamics::train::TravelDirection;
+        let direction = match t.direction.as_deref() {
+            None | Some("forward") => TravelDirection::Forward,
+            Some("backward") => TravelDirection::Backward,
+            Some(other) => {
+                return Err(self.err(
+                    "train.direction",
+                    format!("{other:?}"),
+                    "must be \"forward\" or \"backward\"",
+                ))
+            }
+        };
         let mut train = Train {
             spec,
             hunting,
             axle_vehicle,
+            direction,
         };
         if train.axle_vehicle.is_some() {
             let TrainSpec::MovingForce(axles) = &train.spec else {

@@ -203,10 +203,8 @@ impl HuntingCache {
     fn at(&mut self, train: &Arc<Train>, n: usize, t: f64) -> &[[f64; 3]] {
         let key = (t.to_bits(), Arc::as_ptr(train) as usize);
         if self.key != Some(key) || self.values.len() != n {
-            let v = train.speed_m_s;
             self.values.clear();
-            self.values
-                .extend((0..n).map(|w| crate::track::hunting_motion(&train.hunting, w, v * t, v)));
+            self.values.extend((0..n).map(|w| train.hunting_at(w, t)));
             self.key = Some(key);
         }
         &self.values
