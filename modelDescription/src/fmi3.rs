@@ -48,21 +48,7 @@ impl ModelDescription {
         let mut out = Out {
             text: String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"),
         };
-        let mut root = Attrs::new();
-        root.s("fmiVersion", "3.0")
-            .s("modelName", &self.model_name)
-            .s("instantiationToken", &self.guid)
-            .os("description", &self.description)
-            .os("author", &self.author)
-            .os("version", &self.version)
-            .os("copyright", &self.copyright)
-            .os("license", &self.license)
-            .os("generationTool", &self.generation_tool)
-            .os("generationDateAndTime", &self.generation_date_and_time)
-            .s(
-                "variableNamingConvention",
-                self.variable_naming_convention.as_str(),
-            );
+        let root = self.root_attrs("3.0", "instantiationToken");
         out.open(0, "fmiModelDescription", &root);
         write_co_simulation(&mut out, cs);
         if !self.unit_definitions.is_empty() {

@@ -150,15 +150,14 @@ fn unknowns(out: &mut Out, name: &str, list: &[Unknown]) {
 }
 
 impl ModelDescription {
-    /// The description as a complete `modelDescription.xml` document (UTF-8, indented).
-    pub fn to_xml_string(&self) -> String {
-        let mut out = Out {
-            text: String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"),
-        };
+    /// The root element's attributes both versions share: `fmiVersion`, `modelName`, the
+    /// GUID under `token` (`guid`, FMI 3.0's `instantiationToken`), the texts and
+    /// `variableNamingConvention`.
+    pub(crate) fn root_attrs(&self, fmi_version: &str, token: &str) -> Attrs {
         let mut root = Attrs::new();
-        root.s("fmiVersion", &self.fmi_version)
+        root.s("fmiVersion", fmi_version)
             .s("modelName", &self.model_name)
-            .s("guid", &self.guid)
+            .s(token, &self.guid)
             .os("description", &self.description)
             .os("author", &self.author)
             .os("version", &self.version)
@@ -169,8 +168,17 @@ impl ModelDescription {
             .s(
                 "variableNamingConvention",
                 self.variable_naming_convention.as_str(),
-            )
-            .i("numberOfEventIndicators", self.number_of_event_indicators);
+            );
+        root
+    }
+
+    /// The description as a complete `modelDescription.xml` document (UTF-8, indented).
+    pub fn to_xml_string(&self) -> String {
+        let mut out = Out {
+            text: String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"),
+        };
+        let mut root = self.root_attrs(&self.fmi_version, "guid");
+        root.i("numberOfEventIndicators", self.number_of_event_indicators);
         out.open(0, "fmiModelDescription", &root);
 
         if let Some(me) = &self.model_exchange {

@@ -308,7 +308,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             ));
         }
     }
-    let backward = s.train.direction == tbi_dynamics::train::TravelDirection::Backward;
+    let backward = !s.train.direction.is_forward();
     let train_res = train_description(s, &bridge)?;
     let train = train_res
         .build(0.0)
@@ -394,7 +394,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
 /// The train's description from the scenario: it enters at the deck start (forward) or end
 /// (backward) unless `run.start_x_m` says otherwise, and must cross the deck.
 fn train_description(s: &Scenario, bridge: &ModalBridge) -> Result<TrainDescription, InputError> {
-    let backward = s.train.direction == tbi_dynamics::train::TravelDirection::Backward;
+    let backward = !s.train.direction.is_forward();
     let train_res = TrainDescription {
         spec: s.train.spec.clone(),
         speed_m_s: s.run.speed,
