@@ -45,9 +45,35 @@ pub struct Layout {
     pub vehicles: Vec<[bool; 2]>,
     /// Per wheelset: static vertical load P0 (N) and contact distance (m).
     pub wheelsets: Vec<(f64, f64)>,
+    /// Per train, its number of vehicles and of wheelsets, train after train as `vehicles`
+    /// and `wheelsets` hold them (empty: one train). With several, the columns of train
+    /// k ≥ 2 are named `train<k>.veh<i>…` and `train<k>.ws<w>…`, numbered within the train.
+    pub trains: Vec<[usize; 2]>,
 }
 
 impl Layout {
+    /// The train of each vehicle (`d = 0`) or wheelset (`d = 1`), and its number within the
+    /// train (1-based).
+    pub fn numbered(&self, d: usize) -> Vec<(usize, usize)> {
+        let n = [self.vehicles.len(), self.wheelsets.len()][d];
+        let mut out = Vec::with_capacity(n);
+        for (k, t) in self.trains.iter().enumerate() {
+            out.extend((1..=t[d]).map(|i| (k, i)));
+        }
+        let from = out.len();
+        out.extend((from..n).map(|i| (0, i + 1)));
+        out.truncate(n);
+        out
+    }
+
+    /// `veh3` or `train2.veh3` (`what` = `veh` or `ws`) of a train's item `i`.
+    fn item_name(what: &str, (k, i): (usize, usize)) -> String {
+        match k {
+            0 => format!("{what}{i}"),
+            _ => format!("train{}.{what}{i}", k + 1),
+        }
+    }
+
     /// Column names of `history.csv`.
     pub fn columns(&self) -> Vec<String> {
         let mut c = vec!["time_s".to_string()];
@@ -56,22 +82,24 @@ impl Layout {
             c.push(format!("{p}.vertical_acceleration_m_s2"));
             c.push(format!("{p}.lateral_displacement_m"));
             c.push(format!("{p}.lateral_acceleration_m_s2"));
+            c.push(format!("{p}.torsion_rad"));
         }
-        for (i, v) in self.vehicles.iter().enumerate() {
+        for (v, at) in self.vehicles.iter().zip(self.numbered(0)) {
+            let name = Self::item_name("veh", at);
             if v[0] {
-                c.push(format!("veh{}.lateral_acceleration_m_s2", i + 1));
+                c.push(format!("{name}.lateral_acceleration_m_s2"));
             }
             if v[1] {
-                c.push(format!("veh{}.vertical_acceleration_m_s2", i + 1));
+                c.push(format!("{name}.vertical_acceleration_m_s2"));
             }
         }
-        for w in 0..self.wheelsets.len() {
-            let k = w + 1;
-            c.push(format!("ws{k}.lateral_force_n"));
-            c.push(format!("ws{k}.vertical_force_n"));
-            c.push(format!("ws{k}.roll_moment_nm"));
-            c.push(format!("ws{k}.derail_factor"));
-            c.push(format!("ws{k}.offload_factor"));
+        for at in self.numbered(1) {
+            let k = Self::item_name("ws", at);
+            c.push(format!("{k}.lateral_force_n"));
+            c.push(format!("{k}.vertical_force_n"));
+            c.push(format!("{k}.roll_moment_nm"));
+            c.push(format!("{k}.derail_factor"));
+            c.push(format!("{k}.offload_factor"));
         }
         c
     }
@@ -85,6 +113,9 @@ pub struct ProbeMax {
     pub vertical_acceleration_max_m_s2: f64,
     pub lateral_displacement_max_m: f64,
     pub lateral_acceleration_max_m_s2: f64,
+    /// Largest |torsion| of the deck, rad.
+    #[serde(default)]
+    pub torsion_max_rad: f64,
 }
 
 /// Vehicle maxima over all vehicles.
@@ -124,12 +155,26 @@ impl SafetyMax {
     }
 }
 
+/// The maxima of one train of several.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrainMax {
+    /// Largest car-body vertical acceleration, m/s².
+    pub vertical_acceleration_max_m_s2: f64,
+    /// Largest car-body lateral acceleration, m/s².
+    pub lateral_acceleration_max_m_s2: f64,
+    pub safety: SafetyMax,
+}
+
 /// Accumulates samples: writes history rows and tracks maxima.
 pub struct Recorder<W: Write> {
     pub layout: Layout,
     pub probes: Vec<ProbeMax>,
     pub vehicles: VehicleMax,
     pub safety: SafetyMax,
+    /// Per train of several ([`Layout::trains`]), its maxima (empty with one train).
+    pub by_train: Vec<TrainMax>,
+    /// The train of each vehicle and of each wheelset.
+    train_of: [Vec<usize>; 2],
     acc_history: Vec<[Vec<f64>; 2]>,
     times: Vec<f64>,
     out: Option<W>,
@@ -148,7 +193,17 @@ impl<W: Write> Recorder<W> {
         if let Some(o) = out.as_mut() {
             writeln!(o, "{}", layout.columns().join(","))?;
         }
+        let several = layout.trains.len() > 1;
+        let train_of = [0, 1].map(|d| match several {
+            true => layout.numbered(d).iter().map(|a| a.0).collect(),
+            false => Vec::new(),
+        });
         Ok(Recorder {
+            by_train: match several {
+                true => vec![TrainMax::default(); layout.trains.len()],
+                false => Vec::new(),
+            },
+            train_of,
             probes: probe_x
                 .iter()
                 .map(|&x| ProbeMax {
@@ -183,12 +238,19 @@ impl<W: Write> Recorder<W> {
             m.vertical_acceleration_max_m_s2 = m.vertical_acceleration_max_m_s2.max(p.z_dd.abs());
             m.lateral_displacement_max_m = m.lateral_displacement_max_m.max(p.y.abs());
             m.lateral_acceleration_max_m_s2 = m.lateral_acceleration_max_m_s2.max(p.y_dd.abs());
+            m.torsion_max_rad = m.torsion_max_rad.max(p.theta.abs());
             if write_row {
-                row.extend([p.z, p.z_dd, p.y, p.y_dd]);
+                row.extend([p.z, p.z_dd, p.y, p.y_dd, p.theta]);
             }
         }
         self.times.push(s.t);
         for (i, v) in s.vehicles.iter().enumerate() {
+            if let Some(&k) = self.train_of[0].get(i) {
+                let t = &mut self.by_train[k];
+                let [lat, ver] = v.map(|a| a.map_or(0.0, f64::abs));
+                t.lateral_acceleration_max_m_s2 = t.lateral_acceleration_max_m_s2.max(lat);
+                t.vertical_acceleration_max_m_s2 = t.vertical_acceleration_max_m_s2.max(ver);
+            }
             if let Some(a) = v[0] {
                 self.vehicles.lateral_acceleration_max_m_s2 =
                     self.vehicles.lateral_acceleration_max_m_s2.max(a.abs());
@@ -264,8 +326,11 @@ impl<W: Write> Recorder<W> {
                 (q[j], m[j], p[j]) = (f.x, f.y, f.z);
                 (p0[j], b[j]) = self.layout.wheelsets[w];
             }
-            for l in &WheelLoads::from_forces4(q, m, p, p0, b) {
+            for (l, &w) in WheelLoads::from_forces4(q, m, p, p0, b).iter().zip(&four) {
                 self.safety.include(l);
+                if let Some(&k) = self.train_of[1].get(w) {
+                    self.by_train[k].safety.include(l);
+                }
             }
         }
     }
@@ -280,6 +345,9 @@ impl<W: Write> Recorder<W> {
                 let (p0, b) = self.layout.wheelsets[w];
                 let l = WheelLoads::from_force(f, p0, b);
                 self.safety.include(&l);
+                if let Some(&k) = self.train_of[1].get(w) {
+                    self.by_train[k].safety.include(&l);
+                }
                 self.last_loads[w] = Some((bits, l));
                 l
             }
@@ -466,6 +534,7 @@ mod tests {
             probe_names: Vec::new(),
             vehicles: Vec::new(),
             wheelsets: vec![(1e5, 1.5), (1e5, 1.5)],
+            trains: Vec::new(),
         };
         let forces = [
             [Vector3::new(1e3, 0.0, 1e5), Vector3::new(0.0, 0.0, 1e5)],

@@ -1,8 +1,10 @@
-//! A train: vehicles in a row moving at constant speed in +x (forward) or −x (backward).
+//! Trains: vehicles in rows, each row (a train) moving in +x (forward) or −x (backward) on
+//! its own track, at constant speed or braking or accelerating once ([`TrainRun`]).
 //!
-//! Positions are measured along the track. Wheelset `w` of the train (numbered front to
-//! back over all vehicles) sits at `offset_w` behind the first axle, which is at `x0` at
-//! `t = 0`, so `x_w(t) = x0 + d (v t − offset_w)` with `d = +1` forward and `−1` backward.
+//! Positions are measured along the track. Wheelset `w` of a train (numbered front to back
+//! over its vehicles) sits at `offset_w` behind the train's first axle, which is at `x0` at
+//! `t = t₀` and has travelled `s(t)` since, so `x_w(t) = x0 + d (s(t) − offset_w)` with
+//! `d = +1` forward and `−1` backward (`s = v (t − t₀)` at constant speed).
 //!
 //! A backward train's vehicles face −x: their own lateral axis points to −y and their roll
 //! is the deck's with the opposite sign, so each vehicle is used mirrored
@@ -89,16 +91,201 @@ impl TravelDirection {
     }
 }
 
+/// A change of speed: from where the first axle passes `from_x_m`, the speed changes at a
+/// constant rate until it reaches `to_speed_m_s`, and stays there (0: the train stops and
+/// stands).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpeedChange {
+    /// Where the change begins: the first axle's position, m.
+    pub from_x_m: f64,
+    /// The rate of change of the speed, m/s² (< 0 braking, > 0 accelerating).
+    pub rate_m_s2: f64,
+    /// The speed it ends at, m/s (≥ 0).
+    pub to_speed_m_s: f64,
+}
+
+/// How one train runs: where and when it starts, its speed (constant, or changing once), its
+/// direction and track, and its wheels' hunting.
+///
+/// Its first axle has travelled `s(t)` from `x0_m` at time `t` (`s = v₀ (t − t₀)` at
+/// constant speed; with a [`SpeedChange`] `s` is piecewise quadratic: `v₀` until the
+/// change begins, then `v₀ + a τ`, then the final speed), and wheelset `w` of the train, at
+/// `offset_w` behind the first axle, is at `x_w = x0 + d (s − offset_w)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainRun {
+    /// The speed at the start v₀, m/s (> 0; a standing train, v = 0, is allowed in tests of
+    /// statics).
+    pub speed_m_s: f64,
+    /// Position of the first axle at `t0_s`, m.
+    pub x0_m: f64,
+    /// The time the first axle is at `x0_m`, s.
+    pub t0_s: f64,
+    /// The direction of travel (the vehicles of a backward train are mirrored).
+    pub direction: TravelDirection,
+    /// The track it runs on: 0 the first ([`crate::bridge::ModalBridge::track_place`]).
+    pub track: usize,
+    /// A change of speed (None: constant speed).
+    pub change: Option<SpeedChange>,
+    /// Wheel hunting of its wheelsets (numbered within the train).
+    pub hunting: tbi_track::WheelHunting,
+}
+
+/// The motion of a train's first axle at one time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Travel {
+    /// Distance travelled from `x0`, m.
+    pub s_m: f64,
+    /// Speed, m/s (≥ 0).
+    pub v_m_s: f64,
+    /// Rate of change of the speed, m/s² (along the direction of travel).
+    pub a_m_s2: f64,
+}
+
+impl TrainRun {
+    /// A train at constant speed `speed_m_s` from `x0_m` at t = 0, on the first track.
+    pub fn steady(
+        speed_m_s: f64,
+        x0_m: f64,
+        direction: TravelDirection,
+        hunting: tbi_track::WheelHunting,
+    ) -> TrainRun {
+        TrainRun {
+            speed_m_s,
+            x0_m,
+            t0_s: 0.0,
+            direction,
+            track: 0,
+            change: None,
+            hunting,
+        }
+    }
+
+    /// The first axle's travel at time `t`.
+    #[inline]
+    pub fn travel(&self, t: f64) -> Travel {
+        let v0 = self.speed_m_s;
+        let tau = t - self.t0_s;
+        let steady = Travel {
+            s_m: v0 * tau,
+            v_m_s: v0,
+            a_m_s2: 0.0,
+        };
+        let Some(c) = &self.change else {
+            return steady;
+        };
+        // where the change begins, as a distance travelled (at once if behind the start)
+        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
+        let t1 = if v0 > 0.0 { s1 / v0 } else { 0.0 };
+        if tau <= t1 || c.rate_m_s2 == 0.0 {
+            return steady;
+        }
+        let a = c.rate_m_s2;
+        let t2 = t1 + (c.to_speed_m_s - v0) / a;
+        let s2 = s1 + v0 * (t2 - t1) + 0.5 * a * (t2 - t1) * (t2 - t1);
+        if tau < t2 {
+            let u = tau - t1;
+            return Travel {
+                s_m: s1 + v0 * u + 0.5 * a * u * u,
+                v_m_s: v0 + a * u,
+                a_m_s2: a,
+            };
+        }
+        Travel {
+            s_m: s2 + c.to_speed_m_s * (tau - t2),
+            v_m_s: c.to_speed_m_s,
+            a_m_s2: 0.0,
+        }
+    }
+
+    /// Position of a wheelset at offset `offset_m` at time `t`, m.
+    #[inline]
+    pub fn x_at(&self, offset_m: f64, t: f64) -> f64 {
+        let s = self.travel(t).s_m;
+        match self.direction {
+            TravelDirection::Forward => self.x0_m + s - offset_m,
+            TravelDirection::Backward => self.x0_m - s + offset_m,
+        }
+    }
+
+    /// The velocity along x at `t`, m/s: the speed, negative for a backward train.
+    #[inline]
+    pub fn vx(&self, t: f64) -> f64 {
+        self.direction.sign() * self.travel(t).v_m_s
+    }
+
+    /// The hunting motion `(Y_h, Ẏ_h, Ÿ_h)` of the train's wheelset `w` at `t` in the deck's
+    /// frame (with a changing speed, the term `a dY_h/ds` of `Ÿ_h` is left out, as the
+    /// `a r′` of the irregularity's: see [`crate::solver::rail_prescribed`]).
+    pub fn hunting_at(&self, w: usize, t: f64) -> [f64; 3] {
+        let tr = self.travel(t);
+        let h = crate::track::hunting_motion(&self.hunting, w, tr.s_m, tr.v_m_s);
+        match self.direction {
+            TravelDirection::Forward => h,
+            TravelDirection::Backward => h.map(|x| -x),
+        }
+    }
+
+    /// The first time the first axle has travelled `s` (≥ 0) from `x0_m`, or None if it
+    /// stops before: the inverse of [`Self::travel`], in closed form.
+    pub fn time_to_travel(&self, s: f64) -> Option<f64> {
+        let v0 = self.speed_m_s;
+        let steady = |s: f64| (v0 > 0.0).then(|| self.t0_s + s / v0);
+        let Some(c) = self.change.as_ref().filter(|c| c.rate_m_s2 != 0.0) else {
+            return steady(s);
+        };
+        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
+        if s <= s1 {
+            return steady(s);
+        }
+        let t1 = if v0 > 0.0 { s1 / v0 } else { 0.0 };
+        let a = c.rate_m_s2;
+        let u2 = (c.to_speed_m_s - v0) / a;
+        let s2 = s1 + v0 * u2 + 0.5 * a * u2 * u2;
+        if s <= s2 {
+            // s1 + v0 u + a u²/2 = s, the root on the way (u ≤ u2)
+            let disc = (v0 * v0 + 2.0 * a * (s - s1)).max(0.0);
+            let u = 2.0 * (s - s1) / (v0 + disc.sqrt());
+            return Some(self.t0_s + t1 + u);
+        }
+        (c.to_speed_m_s > 0.0).then(|| self.t0_s + t1 + u2 + (s - s2) / c.to_speed_m_s)
+    }
+
+    /// The distance the first axle travels in all, m (∞ unless it stops).
+    pub fn total_travel(&self) -> f64 {
+        match self.stop_time() {
+            Some(t) => self.travel(t).s_m,
+            None => f64::INFINITY,
+        }
+    }
+
+    /// The time the speed reaches zero and stays there (None: it never stops), s.
+    pub fn stop_time(&self) -> Option<f64> {
+        let c = self.change.as_ref()?;
+        if c.to_speed_m_s > 0.0 || c.rate_m_s2 >= 0.0 {
+            return None;
+        }
+        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
+        let t1 = if self.speed_m_s > 0.0 {
+            s1 / self.speed_m_s
+        } else {
+            0.0
+        };
+        Some(self.t0_s + t1 - self.speed_m_s / c.rate_m_s2)
+    }
+}
+
 /// One vehicle of a train.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrainVehicle {
     pub model: Arc<LinearVehicle>,
-    /// Distance of this vehicle's first wheelset behind the train's first axle, m.
+    /// Distance of this vehicle's first wheelset behind its train's first axle, m.
     pub offset_m: f64,
+    /// Its train: an index into [`Train::runs`].
+    pub run: usize,
 }
 
 impl TrainVehicle {
-    /// Distance of this vehicle's centre (the mean of its wheelsets) behind the train's first
+    /// Distance of this vehicle's centre (the mean of its wheelsets) behind its train's first
     /// axle, m.
     pub fn centre_offset_m(&self) -> f64 {
         let n = self.model.wheelsets.len().max(1) as f64;
@@ -106,20 +293,15 @@ impl TrainVehicle {
     }
 }
 
-/// A train (see the module docs).
+/// The trains on the bridge: their vehicles, one row after the other (train 1's front to
+/// back, then train 2's, …), and how each train runs (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Train {
     pub vehicles: Vec<TrainVehicle>,
-    /// Speed v, m/s (> 0; a standing train, v = 0, is allowed in tests of statics).
-    pub speed_m_s: f64,
-    /// Position of the first axle at t = 0, m.
-    pub x0_m: f64,
-    /// The direction of travel (the vehicles of a backward train are mirrored).
-    pub direction: TravelDirection,
-    /// Wheel hunting of every wheelset.
-    pub hunting: tbi_track::WheelHunting,
+    /// How each train runs (one per train; `vehicles[i].run` indexes it).
+    pub runs: Vec<TrainRun>,
     /// The wind on the car bodies beyond their static loads (None: still air, or a steady
-    /// wind whose loads the static equilibrium holds throughout).
+    /// wind whose loads the static equilibrium holds throughout). One train only.
     pub wind: Option<std::sync::Arc<crate::vehicle::aero::TrainWind>>,
 }
 
@@ -129,21 +311,64 @@ pub struct WheelsetRef {
     pub vehicle: usize,
     /// Index within the vehicle.
     pub local: usize,
-    /// Distance behind the first axle, m.
+    /// Distance behind its train's first axle, m.
     pub offset_m: f64,
+    /// Its train: an index into [`Train::runs`].
+    pub run: usize,
+    /// Index within its train, front to back.
+    pub in_run: usize,
 }
 
 impl Train {
-    /// All wheelsets front to back.
+    /// One train of `vehicles` running as `run`.
+    pub fn single(vehicles: Vec<TrainVehicle>, run: TrainRun) -> Train {
+        let vehicles = (vehicles.into_iter())
+            .map(|v| TrainVehicle { run: 0, ..v })
+            .collect();
+        Train {
+            vehicles,
+            runs: vec![run],
+            wind: None,
+        }
+    }
+
+    /// The trains of `trains` (each one train, without wind) on the bridge together.
+    pub fn together(trains: Vec<Train>) -> Train {
+        let mut all = Train {
+            vehicles: Vec::new(),
+            runs: Vec::new(),
+            wind: None,
+        };
+        for t in trains {
+            let base = all.runs.len();
+            (all.vehicles).extend(t.vehicles.into_iter().map(|v| TrainVehicle {
+                run: v.run + base,
+                ..v
+            }));
+            all.runs.extend(t.runs);
+        }
+        all
+    }
+
+    /// The first train's run (the only one of a single train).
+    pub fn run(&self) -> &TrainRun {
+        &self.runs[0]
+    }
+
+    /// All wheelsets front to back, train after train.
     pub fn wheelsets(&self) -> Vec<WheelsetRef> {
         let mut out = Vec::new();
+        let mut in_run = vec![0; self.runs.len()];
         for (i, tv) in self.vehicles.iter().enumerate() {
             for (l, ws) in tv.model.wheelsets.iter().enumerate() {
                 out.push(WheelsetRef {
                     vehicle: i,
                     local: l,
                     offset_m: tv.offset_m + ws.offset_m,
+                    run: tv.run,
+                    in_run: in_run[tv.run],
                 });
+                in_run[tv.run] += 1;
             }
         }
         out
@@ -166,40 +391,27 @@ impl Train {
         self.vehicles.iter().map(|v| v.model.wheelsets.len()).sum()
     }
 
-    /// Distance from the first to the last axle, m.
-    pub fn length_m(&self) -> f64 {
-        self.wheelsets()
-            .iter()
+    /// Distance from the first to the last axle of train `run`, m.
+    pub fn length_m(&self, run: usize) -> f64 {
+        (self.wheelsets().iter())
+            .filter(|w| w.run == run)
             .map(|w| w.offset_m)
             .fold(0.0, f64::max)
     }
 
-    /// Position of a wheelset at offset `offset_m` at time `t`, m.
+    /// Position of wheelset `ws` at time `t`, m.
     #[inline]
-    pub fn x_at(&self, offset_m: f64, t: f64) -> f64 {
-        match self.direction {
-            TravelDirection::Forward => self.x0_m + self.speed_m_s * t - offset_m,
-            TravelDirection::Backward => self.x0_m - self.speed_m_s * t + offset_m,
-        }
+    pub fn x_of(&self, ws: &WheelsetRef, t: f64) -> f64 {
+        self.runs[ws.run].x_at(ws.offset_m, t)
     }
 
-    /// The velocity along x, m/s: the speed, negative for a backward train.
-    #[inline]
-    pub fn vx(&self) -> f64 {
-        self.direction.sign() * self.speed_m_s
+    /// Whether any wheel hunts.
+    pub fn hunts(&self) -> bool {
+        self.runs.iter().any(|r| r.hunting.is_active())
     }
 
-    /// The hunting motion `(Y_h, Ẏ_h, Ÿ_h)` of wheelset `w` at `t` in the deck's frame.
-    pub fn hunting_at(&self, w: usize, t: f64) -> [f64; 3] {
-        let v = self.speed_m_s;
-        let h = crate::track::hunting_motion(&self.hunting, w, v * t, v);
-        match self.direction {
-            TravelDirection::Forward => h,
-            TravelDirection::Backward => h.map(|x| -x),
-        }
-    }
-
-    /// Distance of vehicle `i`'s centre (the mean of its wheelsets) behind the first axle, m.
+    /// Distance of vehicle `i`'s centre (the mean of its wheelsets) behind its train's first
+    /// axle, m.
     pub fn centre_offset_m(&self, i: usize) -> f64 {
         self.vehicles[i].centre_offset_m()
     }
@@ -207,7 +419,7 @@ impl Train {
     /// Position at time `t` of the centre of vehicle `i`'s car body, if the wind loads it, m.
     pub fn wind_body_x(&self, i: usize, t: f64) -> Option<f64> {
         let body = self.wind.as_ref()?.bodies[i].as_ref()?;
-        Some(self.x_at(body.1, t))
+        Some(self.runs[self.vehicles[i].run].x_at(body.1, t))
     }
 
     /// Add `scale` times the wind force on vehicle `i` beyond its static loads at time `t`
@@ -226,12 +438,34 @@ impl Train {
         }
     }
 
-    /// The wind force on vehicle `i` beyond its static loads at time `t` in the turbulence
-    /// `u` (one per DOF), for an initial acceleration; None in still air.
-    pub fn wind_force(&self, i: usize, t: f64, u: f64) -> Option<nalgebra::DVector<f64>> {
-        self.wind.as_ref()?;
-        let mut f = nalgebra::DVector::zeros(self.vehicles[i].model.ndof());
+    /// The rate of change of the speed of vehicle `i`'s train at `t`, m/s² (+ speeding up):
+    /// its bodies' inertia loads it ([`crate::vehicle::LinearVehicle::inertia`]).
+    #[inline]
+    pub fn acceleration_of(&self, i: usize, t: f64) -> f64 {
+        let run = &self.runs[self.vehicles[i].run];
+        match run.change {
+            None => 0.0,
+            Some(_) => run.travel(t).a_m_s2,
+        }
+    }
+
+    /// Whether vehicle `i`'s train changes its speed at some time.
+    pub fn changes_speed(&self, i: usize) -> bool {
+        self.runs[self.vehicles[i].run].change.is_some()
+    }
+
+    /// The force on vehicle `i` beyond its static loads at time `t` (one per DOF), for an
+    /// initial acceleration: the wind's in the turbulence `u`, and the inertia of a changing
+    /// speed; None in still air at constant speed.
+    pub fn body_force(&self, i: usize, t: f64, u: f64) -> Option<nalgebra::DVector<f64>> {
+        let model = &self.vehicles[i].model;
+        let a = self.acceleration_of(i, t);
+        if self.wind.is_none() && (a == 0.0 || model.inertia.is_empty()) {
+            return None;
+        }
+        let mut f = nalgebra::DVector::zeros(model.ndof());
         self.add_wind_force(i, t, u, 1.0, &mut f);
+        model.add_inertia(a, f.as_mut_slice());
         Some(f)
     }
 }

@@ -269,7 +269,7 @@ fn train_leaving_undamped_bridge_leaves_constant_energy() {
     let bridge = bridge_3d(2.05, 1.25, 0.0);
     let train = two_coaches(120.0 / 3.6, 0.0, false);
     let mut sol = Monolithic::new(bridge, train, Arc::new(Waves), 2e-3);
-    let t_off = (60.0 + sol.train.length_m()) / sol.train.speed_m_s;
+    let t_off = (60.0 + sol.train.length_m(0)) / sol.train.run().speed_m_s;
     while sol.t < t_off + 0.01 {
         sol.step();
     }
@@ -506,7 +506,7 @@ fn the_ideal_track_left_out_gives_the_run_of_a_zero_profile() {
                 amplitude_m,
                 ..Default::default()
             };
-            train.hunting = tbi_track::WheelHunting::new(&params, n).unwrap();
+            train.runs[0].hunting = tbi_track::WheelHunting::new(&params, n).unwrap();
             let mut sol = Monolithic::new(bridge_3d(2.05, 1.25, 0.02), train, track, 2e-3);
             let mut bits = Vec::new();
             while sol.t < 3.0 {
@@ -562,6 +562,7 @@ fn moving_forces_off_the_deck_left_out_give_the_run_of_all_wheelsets() {
             probe_names: vec!["mid".into()],
             vehicles: vec![[false, false]; train.vehicles.len()],
             wheelsets: vec![(1.7e5, 1.5); train.wheelsets().len()],
+            trains: Vec::new(),
         };
         let text = Text::default();
         let mut rec = Recorder::new(layout, &[30.0], Some(text.clone())).unwrap();

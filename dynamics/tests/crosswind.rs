@@ -60,6 +60,8 @@ fn wheel_loads_follow_the_body_loads_on_ground_deck_and_in_a_gust() {
         speed_m_s: Speed::from_m_s(V).unwrap(),
         x0_m: 20.0,
         direction: Default::default(),
+        track: 0,
+        change: None,
         hunting: Default::default(),
         crosswind: Some(Crosswind {
             mean_speed_m_s: U,

@@ -27,7 +27,7 @@ fn converged_partitions_equal_monolithic() {
     let inputs0: Vec<WheelInput> = (0..nw)
         .map(|w| WheelInput {
             x: ts.x(w, 0.0),
-            vx: ts.train.speed_m_s,
+            vx: ts.train.run().speed_m_s,
             f: [0.0; 3],
         })
         .collect();
@@ -56,7 +56,7 @@ fn converged_partitions_equal_monolithic() {
             let inputs: Vec<WheelInput> = (0..nw)
                 .map(|w| WheelInput {
                     x: ts.x(w, t1),
-                    vx: ts.train.speed_m_s,
+                    vx: ts.train.run().speed_m_s,
                     f: [forces[w].x, forces[w].y, forces[w].z],
                 })
                 .collect();
@@ -163,6 +163,7 @@ fn the_bridge_side_through_its_basis_equals_the_shapes_at_each_wheelset() {
         labels: vec![String::new(); nb],
         e_m: 2.05,
         h4_m: 1.25,
+        other_tracks: Vec::new(),
         shapes: Shapes::Nodal {
             x_m,
             values,

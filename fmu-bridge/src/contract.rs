@@ -24,6 +24,35 @@ pub struct BridgeResources {
     pub modal: ModalBridge,
     pub probes: Vec<ProbeSpec>,
     pub n_wheelsets: usize,
+    /// The track each wheelset slot runs on, 0 the first (empty: all on the first; not
+    /// written then).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wheelset_tracks: Vec<usize>,
     /// Whether `track.csv` holds an irregularity record (else the track is smooth).
     pub has_track_record: bool,
+}
+
+impl BridgeResources {
+    /// Refuse a track list that does not give one existing track per wheelset slot.
+    pub fn check_tracks(&self) -> Result<(), String> {
+        let tracks = &self.wheelset_tracks;
+        if tracks.is_empty() {
+            return Ok(());
+        }
+        if tracks.len() != self.n_wheelsets {
+            return Err(format!(
+                "wheelset_tracks has {} entries for {} wheelsets",
+                tracks.len(),
+                self.n_wheelsets
+            ));
+        }
+        let n = self.modal.n_tracks();
+        match tracks.iter().position(|&k| k >= n) {
+            Some(w) => Err(format!(
+                "wheelset_tracks[{w}] = {}: the deck has {n} track(s), numbered from 0",
+                tracks[w]
+            )),
+            None => Ok(()),
+        }
+    }
 }

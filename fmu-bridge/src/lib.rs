@@ -237,6 +237,7 @@ impl BridgeFmu {
     pub fn from_parts(res: BridgeResources, track: Arc<dyn RailProfile>, guid: String) -> Self {
         let layout = BridgeLayout::of(&res);
         let mut side = BridgeSide::new(Arc::new(res.modal.clone()), track);
+        side.tracks = Arc::new(res.wheelset_tracks.clone());
         // the turbulence comes from the wind FMU
         side.take_wind_from_inputs();
         BridgeFmu {
@@ -271,6 +272,7 @@ impl BridgeFmu {
         let track = self.side.track.clone();
         let wind = self.side.deck_wind.clone();
         self.side = BridgeSide::new(Arc::new(self.res.modal.clone()), track);
+        self.side.tracks = Arc::new(self.res.wheelset_tracks.clone());
         self.side.take_wind_from_inputs();
         if let (Some(new), Some(old)) = (self.side.deck_wind.as_mut(), wind) {
             *new = old;
@@ -328,6 +330,8 @@ impl FmuModel for BridgeFmu {
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let res: BridgeResources = serde_json::from_slice(&bytes)
             .map_err(|e| format!("{}: line {}: {e}", path.display(), e.line()))?;
+        res.check_tracks()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         let mut all = bytes;
         let track: Arc<dyn RailProfile> = if res.has_track_record {
             let tp = resources.join(TRACK_RESOURCE);
@@ -561,6 +565,7 @@ mod tests {
             modal,
             probes: vec![probe("quarter", 15.0), probe("mid", 30.0)],
             n_wheelsets: 2,
+            wheelset_tracks: Vec::new(),
             has_track_record: false,
         };
         BridgeFmu::from_parts(res, Arc::new(Smooth), "guid".into())

@@ -254,7 +254,7 @@ impl TrainFmu {
             // In the order of layout::WHEEL_OUT.
             self.outputs[l.wheel_out.slots(w)].copy_from_slice(&[
                 side.x(w, t),
-                side.train.vx(),
+                side.train.runs[ws.run].vx(t),
                 f.x,
                 f.y,
                 f.z,
@@ -273,7 +273,7 @@ impl TrainFmu {
         }
         for i in 0..l.body_x_out.count {
             self.outputs[l.body_x_out.slot(i, 0)] =
-                side.train.x_at(side.train.centre_offset_m(i), t);
+                side.train.runs[0].x_at(side.train.centre_offset_m(i), t);
         }
         self.dirty = false;
         Ok(())

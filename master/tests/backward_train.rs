@@ -13,33 +13,22 @@
 
 mod cli_support;
 
-use cli_support::{run, Scenario};
+use cli_support::{run, span_40m, Scenario, TIGHT_COUPLING};
 use tbi_tests::{assert_same_table, require_fmu_libraries, scratch};
 
 /// A 40 m span (vertical, lateral and torsional modes), one Xia coach at 120 km/h on an
 /// ideal track at eccentricity `e`, probes at 10, 20 and 30 m.
 fn scenario(e: f64, direction: &str) -> Scenario {
+    let bridge = span_40m(&format!(
+        "track_eccentricity_m = {e:?}\ntrack_height_m = 1.5"
+    ));
     Scenario::parse(&format!(
         r#"name = "backward"
 [run]
 speed_kmh = 120.0
 dt_s = 0.002
 free_vibration_s = 0.3
-[bridge]
-kind = "simply_supported"
-span_m = 40.0
-youngs_modulus_pa = 3.5e10
-inertia_vertical_m4 = 6.0
-inertia_lateral_m4 = 40.0
-shear_modulus_pa = 1.5e10
-torsion_constant_m4 = 12.0
-polar_inertia_kg_m = 2.0e5
-mass_per_length_kg_m = 1.8e4
-modes = 6
-damping_ratio = 0.02
-track_eccentricity_m = {e:?}
-track_height_m = 1.5
-[train]
+{bridge}[train]
 kind = "coach_27dof"
 preset = "xia2000"
 vehicles = 1
@@ -53,12 +42,7 @@ x_m = 20.0
 [[probe]]
 name = "p30"
 x_m = 30.0
-[coupling]
-scheme = "implicit"
-rtol = 1e-12
-atol = 1e-12
-on_non_convergence = "stop"
-"#
+{TIGHT_COUPLING}"#
     ))
 }
 

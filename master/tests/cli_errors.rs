@@ -466,12 +466,13 @@ fn check_summary_keys(s: &serde_json::Value, probes: &[&str]) {
     }
 }
 
-fn probe_columns(name: &str) -> [String; 4] {
+fn probe_columns(name: &str) -> [String; 5] {
     [
         format!("{name}.vertical_displacement_m"),
         format!("{name}.vertical_acceleration_m_s2"),
         format!("{name}.lateral_displacement_m"),
         format!("{name}.lateral_acceleration_m_s2"),
+        format!("{name}.torsion_rad"),
     ]
 }
 
@@ -524,7 +525,7 @@ fn cli_issue_example_runs_and_writes_required_outputs() {
     let h = r.history();
     let mut expected = vec!["time_s".to_string()];
     expected.extend(probe_columns("mid"));
-    assert_eq!(h.columns[..5], expected[..], "history.csv columns");
+    assert_eq!(h.columns[..6], expected[..], "history.csv columns");
     assert_eq!(h.rows.len(), 3801, "one row per step plus t = 0");
     for (k, row) in h.rows.iter().enumerate() {
         assert!(
@@ -575,7 +576,7 @@ fn cli_issue_example_runs_and_writes_required_outputs() {
     let mut expected = vec!["time_s".to_string()];
     expected.extend(probe_columns("mid"));
     expected.extend(probe_columns("quarter"));
-    assert_eq!(h.columns[..9], expected[..], "history.csv columns");
+    assert_eq!(h.columns[..11], expected[..], "history.csv columns");
 }
 
 /// A `modal_file` bridge whose modes file holds the closed-form shapes at 10 nodes (2.78 m

@@ -137,3 +137,57 @@ fn default_cosimulation_equals_monolithic() {
         "the FMI 3.0 co-simulation differs from the FMI 2.0 one"
     );
 }
+
+/// `tbi run --meeting`: two 8-coach trains, one per track (e = ±2.05 m), meeting at mid
+/// main span. Through the bridge FMU and two train FMUs it equals the monolithic solver at
+/// the default case's bound; the summary reports both trains and the meeting at x = 1141 m.
+#[test]
+fn meeting_cosimulation_equals_monolithic() {
+    let co = scratch("tsing-ma-meeting-cosim");
+    let mono = scratch("tsing-ma-meeting-mono");
+    run_ok(
+        Command::new(tbi())
+            .args(["run", "--meeting", "--quiet", "--out"])
+            .arg(&co),
+    );
+    run_ok(
+        Command::new(tbi())
+            .args([
+                "run",
+                "--meeting",
+                "--quiet",
+                "--solver",
+                "monolithic",
+                "--out",
+            ])
+            .arg(&mono),
+    );
+    assert!(
+        co.join("fmus/train2.fmu").is_file(),
+        "one train FMU per train"
+    );
+    assert!(co.join("train2_vehicle1_acceleration.svg").is_file());
+    let s = read_summary(&co);
+    let coupling = s
+        .coupling
+        .as_ref()
+        .expect("a co-simulation reports its coupling");
+    assert_eq!(coupling.accepted_unconverged, 0);
+    assert_eq!(s.trains.len(), 2);
+    assert_eq!((s.trains[0].track, s.trains[1].track), (1, 2));
+    assert_eq!(s.meetings.len(), 1, "{:?}", s.meetings);
+    let m = &s.meetings[0];
+    assert!((m.x_m - 1141.0).abs() < 1e-6, "they meet at {} m", m.x_m);
+    let a = Table::read(&mono.join("history.csv"));
+    let b = Table::read(&co.join("history.csv"));
+    assert!(b
+        .columns
+        .iter()
+        .any(|c| c == "train2.ws32.vertical_force_n"));
+    let (column, rel) = worst(&compare(&a, &b));
+    println!("worst column {column} at {rel:e}");
+    assert!(
+        rel < 1.3e-7,
+        "co-simulation differs from monolithic in {column} by {rel:e}"
+    );
+}

@@ -24,16 +24,18 @@ impl ModalBridge {
     /// the monolithic step, its wheelsets side by side within a mode), and as three rows of
     /// the modes' values, component after component, into `rows[j]`
     /// (`rows[j][k N + n] = Ψ(xs[j])[n][k]`); `on[j]` whether `xs[j]` is on the deck (zeros
-    /// off it). For sine shapes the Chebyshev recurrences of the positions run interleaved
+    /// off it); lane `j` lies on track `tracks[j]` ([`Self::rail_shapes_on`]). For sine shapes the Chebyshev recurrences of the positions run interleaved
     /// (one position's recurrence is a chain of dependent multiplies and subtractions, which
     /// leaves the processor waiting), and the rail map is applied as each value is made
     /// instead of in a second pass; with AVX2 and four lanes, the four lanes go through the
     /// modes in one vector and are stored as vectors (`rail_lanes_avx2`). `scratch` keeps
     /// the sines and a lane's nodal shapes (it only grows, so repeated calls do not
     /// allocate).
+    #[allow(clippy::too_many_arguments)]
     pub fn rail_shapes_lanes(
         &self,
         xs: &[f64],
+        tracks: &[usize],
         block: &mut [f64],
         at: &[(usize, usize)],
         rows: &mut [&mut [f64]],
@@ -43,6 +45,7 @@ impl ModalBridge {
         let m = xs.len();
         let nb = self.n_modes();
         assert!(m <= SHAPE_LANES && at.len() >= m && on.len() >= m && rows.len() >= m);
+        assert!(tracks.len() >= m);
         let Shapes::Sine {
             span_m,
             half_waves,
@@ -51,7 +54,7 @@ impl ModalBridge {
         else {
             scratch.shapes.resize(nb, [0.0; 3]);
             for j in 0..m {
-                on[j] = self.rail_shapes(xs[j], &mut scratch.shapes);
+                on[j] = self.rail_shapes_on(tracks[j], xs[j], &mut scratch.shapes);
                 for (c, p) in lane(block, at[j], nb).zip(&scratch.shapes) {
                     *c = *p;
                 }
@@ -64,7 +67,9 @@ impl ModalBridge {
         if m == SHAPE_LANES && std::arch::is_x86_feature_detected!("avx2") {
             let mut lanes = [(std::ptr::null_mut(), 0); SHAPE_LANES];
             let mut row_ptrs = [std::ptr::null_mut(); SHAPE_LANES];
+            let (mut h4, mut e) = ([0.0; SHAPE_LANES], [0.0; SHAPE_LANES]);
             for j in 0..m {
+                [h4[j], e[j]] = self.track_place(tracks[j]);
                 check_lane(block.len(), at[j], nb);
                 lanes[j] = (block[at[j].0..].as_mut_ptr(), at[j].1);
                 row_ptrs[j] = rows[j][..3 * nb].as_mut_ptr();
@@ -77,7 +82,7 @@ impl ModalBridge {
                     s,
                     &half_waves[..nb],
                     &amplitudes[..nb],
-                    [self.h4_m, self.e_m],
+                    [h4, e],
                     lanes,
                     row_ptrs,
                     nb,
@@ -105,7 +110,7 @@ impl ModalBridge {
                 .zip(rows);
             for (((c, &k), a), ((r0, r1), r2)) in modes {
                 let sk = s[k as usize][j];
-                let v = self.rail_of([a[0] * sk, a[1] * sk, a[2] * sk]);
+                let v = self.rail_of_on(tracks[j], [a[0] * sk, a[1] * sk, a[2] * sk]);
                 *c = v;
                 (*r0, *r1, *r2) = (v[0], v[1], v[2]);
             }
@@ -184,7 +189,8 @@ impl ModalBridge {
 }
 
 /// The loop of [`ModalBridge::rail_shapes_lanes`] over the modes with the four lanes in one
-/// vector: mode `n`'s rail shape `rail_of(a_n · sin(k_n θⱼ))` of lane `j`, the same
+/// vector: mode `n`'s rail shape `rail_of_on(track_j, a_n · sin(k_n θⱼ))` of lane `j` (its
+/// track's `h4` and `e` in `[h4, e]`, lane by lane), the same
 /// operations in the same order as the loop over one lane (bit for bit the same values),
 /// written to `lanes[j].0 + n · lanes[j].1` (three values) and to `rows[j] + c · nb + n`.
 /// Four modes at a time, each component's values are transposed to four modes of a lane and
@@ -201,7 +207,7 @@ unsafe fn rail_lanes_avx2(
     s: &[[f64; SHAPE_LANES]],
     half_waves: &[u32],
     amplitudes: &[[f64; 3]],
-    [h4, e]: [f64; 2],
+    [h4, e]: [[f64; SHAPE_LANES]; 2],
     lanes: [(*mut f64, usize); SHAPE_LANES],
     rows: [*mut f64; SHAPE_LANES],
     nb: usize,
@@ -211,7 +217,7 @@ unsafe fn rail_lanes_avx2(
         _mm256_permute2f128_pd, _mm256_permute4x64_pd, _mm256_permute_pd, _mm256_set1_pd,
         _mm256_storeu_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
     };
-    let (vh4, ve) = (_mm256_set1_pd(h4), _mm256_set1_pd(e));
+    let (vh4, ve) = (_mm256_loadu_pd(h4.as_ptr()), _mm256_loadu_pd(e.as_ptr()));
     // mode n's rail shape, component after component, each over the lanes
     let shape = |n: usize| -> [__m256d; 3] {
         let a = &amplitudes[n];
@@ -346,8 +352,8 @@ mod tests {
     /// [`ModalBridge::rail_shapes_lanes`] gives [`ModalBridge::rail_shapes`] bit for bit, into
     /// its lanes of a mode-major block (and nowhere else in it) and into its rows by
     /// component: sine shapes of many half-waves (and none),
-    /// nodal shapes, one to four lanes, positions on and off the deck, one scratch shared by
-    /// bridges of different sizes.
+    /// nodal shapes, one to four lanes, positions on and off the deck, lanes on different
+    /// tracks, one scratch shared by bridges of different sizes.
     #[test]
     fn rail_shapes_lanes_equal_rail_shapes_bit_for_bit() {
         let sine = |half_waves: Vec<u32>| {
@@ -366,6 +372,7 @@ mod tests {
                 labels: vec![String::new(); n],
                 e_m: 2.05,
                 h4_m: 1.25,
+                other_tracks: vec![[-2.05, 1.25], [0.3, -0.7]],
                 shapes: Shapes::Sine {
                     span_m: 800.0,
                     half_waves,
@@ -425,7 +432,16 @@ mod tests {
                     let mut rows_of: Vec<&mut [f64]> =
                         rows.iter_mut().map(|r| r.as_mut_slice()).collect();
                     let mut on = [true; SHAPE_LANES];
-                    b.rail_shapes_lanes(x, &mut block, &at, &mut rows_of, &mut on, &mut scratch);
+                    let tracks: Vec<usize> = (0..lanes).map(|j| (start + 2 * j) % 3).collect();
+                    b.rail_shapes_lanes(
+                        x,
+                        &tracks,
+                        &mut block,
+                        &at,
+                        &mut rows_of,
+                        &mut on,
+                        &mut scratch,
+                    );
                     let bufs: Vec<Vec<[f64; 3]>> = (0..lanes)
                         .map(|j| {
                             let at = |i: usize, k: usize| block[i * stride + 3 * slot(j) + k];
@@ -443,7 +459,7 @@ mod tests {
                     }
                     for j in 0..lanes {
                         let mut want = vec![[0.0; 3]; n];
-                        let want_on = b.rail_shapes(x[j], &mut want);
+                        let want_on = b.rail_shapes_on(tracks[j], x[j], &mut want);
                         assert_eq!(on[j], want_on, "x = {}", x[j]);
                         let bits = |v: &[[f64; 3]]| -> Vec<u64> {
                             v.iter().flatten().map(|f| f.to_bits()).collect()

@@ -51,6 +51,7 @@ impl ModalBridge {
             labels: used.iter().map(|m| m.label.clone()).collect(),
             e_m,
             h4_m,
+            other_tracks: Vec::new(),
             shapes: Shapes::Nodal {
                 x_m: set.x_m.clone(),
                 values,

@@ -66,6 +66,10 @@ pub struct ModalBridge {
     pub e_m: f64,
     /// Height of the wheelset reference point above the shear centre `h4`, m.
     pub h4_m: f64,
+    /// Further tracks on the deck (a double-track deck), each `[e, h4]`, m: track `k ≥ 1` is
+    /// `other_tracks[k − 1]`, track 0 is `(e_m, h4_m)`. Empty: one track.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub other_tracks: Vec<[f64; 2]>,
     pub shapes: Shapes,
     /// Generalised force `Sₙ` of steady deck loads per mode (empty: none), N·m/√kg with the
     /// mass-normalised shapes.
@@ -89,6 +93,9 @@ impl ModalBridge {
         ];
         if let Some((name, v)) = scalars.iter().find(|(_, v)| !v.is_finite()) {
             return Some(format!("{name} = {v}"));
+        }
+        if let Some(k) = (self.other_tracks.iter()).position(|t| !t.iter().all(|v| v.is_finite())) {
+            return Some(format!("track {}: {:?}", k + 2, self.other_tracks[k]));
         }
         for (n, (f, z)) in self.frequencies_hz.iter().zip(&self.damping).enumerate() {
             if !(f.is_finite() && z.is_finite()) {
@@ -236,26 +243,62 @@ impl ModalBridge {
     /// Rail shapes Ψ at `x`: `out[n] = (φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` — the lateral, roll and
     /// vertical rail motion per unit modal coordinate. Returns false (zeros) off the deck.
     pub fn rail_shapes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
+        self.rail_shapes_on(0, x, out)
+    }
+
+    /// [`Self::rail_shapes`] of track `k`.
+    pub fn rail_shapes_on(&self, k: usize, x: f64, out: &mut [[f64; 3]]) -> bool {
         let on = self.deck_shapes(x, out);
         if on {
-            self.deck_to_rail(out);
+            self.deck_to_rail(k, out);
         }
         on
     }
 
     /// `(φ_h, φ_v, φ_θ)` → `(φ_h + h4 φ_θ, φ_θ, φ_v + e φ_θ)` (eq. 8): deck motion at the
-    /// shear centre to rail motion.
+    /// shear centre to rail motion, on the first track.
     #[inline]
-    pub fn rail_of(&self, [h, v, t]: [f64; 3]) -> [f64; 3] {
-        [h + self.h4_m * t, t, v + self.e_m * t]
+    pub fn rail_of(&self, v: [f64; 3]) -> [f64; 3] {
+        self.rail_of_on(0, v)
     }
 
     /// The transpose of [`Self::rail_of`]: a force on the rail `(F_y, M_x, F_z)` as the
     /// deck's generalised force per unit shape `(F_y, F_z, M_x + h4 F_y + e F_z)`, so that
-    /// `Ψᵀ f = Σ φᵀ (rail_ofᵀ f)`.
+    /// `Ψᵀ f = Σ φᵀ (rail_ofᵀ f)`; on the first track.
     #[inline]
-    pub fn deck_force_of(&self, [fy, mx, fz]: [f64; 3]) -> [f64; 3] {
-        [fy, fz, mx + self.h4_m * fy + self.e_m * fz]
+    pub fn deck_force_of(&self, f: [f64; 3]) -> [f64; 3] {
+        self.deck_force_of_on(0, f)
+    }
+
+    /// How many tracks the deck carries.
+    pub fn n_tracks(&self) -> usize {
+        1 + self.other_tracks.len()
+    }
+
+    /// Track `k`'s `[h4, e]`, m (k < [`Self::n_tracks`]).
+    #[inline]
+    pub fn track_place(&self, k: usize) -> [f64; 2] {
+        match k {
+            0 => [self.h4_m, self.e_m],
+            _ => {
+                let [e, h4] = self.other_tracks[k - 1];
+                [h4, e]
+            }
+        }
+    }
+
+    /// [`Self::rail_of`] on track `k`.
+    #[inline]
+    pub fn rail_of_on(&self, k: usize, [h, v, t]: [f64; 3]) -> [f64; 3] {
+        let [h4, e] = self.track_place(k);
+        [h + h4 * t, t, v + e * t]
+    }
+
+    /// [`Self::deck_force_of`] on track `k`.
+    #[inline]
+    pub fn deck_force_of_on(&self, k: usize, [fy, mx, fz]: [f64; 3]) -> [f64; 3] {
+        let [h4, e] = self.track_place(k);
+        [fy, fz, mx + h4 * fy + e * fz]
     }
 
     /// Per mode, which components of its deck shape `(φ_h, φ_v, φ_θ)` and of its rail shape
@@ -264,10 +307,12 @@ impl ModalBridge {
         let nb = self.n_modes();
         let (mut deck, mut rail) = (vec![[false; 3]; nb], vec![[false; 3]; nb]);
         let mut mark = |n: usize, v: [f64; 3]| {
-            let r = self.rail_of(v);
-            for c in 0..3 {
-                deck[n][c] |= v[c] != 0.0;
-                rail[n][c] |= r[c] != 0.0;
+            for k in 0..self.n_tracks() {
+                let r = self.rail_of_on(k, v);
+                for c in 0..3 {
+                    deck[n][c] |= v[c] != 0.0;
+                    rail[n][c] |= r[c] != 0.0;
+                }
             }
         };
         match &self.shapes {
@@ -325,9 +370,9 @@ impl ModalBridge {
     }
 
     /// [`Self::rail_of`] in place.
-    fn deck_to_rail(&self, out: &mut [[f64; 3]]) {
+    fn deck_to_rail(&self, k: usize, out: &mut [[f64; 3]]) {
         for o in out.iter_mut() {
-            *o = self.rail_of(*o);
+            *o = self.rail_of_on(k, *o);
         }
     }
 
@@ -378,9 +423,14 @@ impl ModalBridge {
     /// Slopes of the rail shapes, `dΨ/dx` at `x` ([`Self::deck_shape_slopes`] through eq. 8).
     /// Returns false (zeros) off the deck.
     pub fn rail_shape_slopes(&self, x: f64, out: &mut [[f64; 3]]) -> bool {
+        self.rail_shape_slopes_on(0, x, out)
+    }
+
+    /// [`Self::rail_shape_slopes`] of track `k`.
+    pub fn rail_shape_slopes_on(&self, k: usize, x: f64, out: &mut [[f64; 3]]) -> bool {
         let on = self.deck_shape_slopes(x, out);
         if on {
-            self.deck_to_rail(out);
+            self.deck_to_rail(k, out);
         }
         on
     }
@@ -536,6 +586,7 @@ mod tests {
             labels: vec!["a".into(), "b".into(), "c".into()],
             e_m: 1.5,
             h4_m: 0.7,
+            other_tracks: Vec::new(),
             shapes: Shapes::Sine {
                 span_m: 30.0,
                 half_waves: vec![1, 5, 2],
@@ -582,6 +633,7 @@ mod tests {
             labels: vec!["V-S-1".into(), "V-A-1".into()],
             e_m: 0.0,
             h4_m: 0.0,
+            other_tracks: Vec::new(),
             shapes: Shapes::Sine {
                 span_m: 10.0,
                 half_waves: vec![1, 2],

@@ -121,6 +121,7 @@ impl SimplySupported {
             labels,
             e_m: self.e_m,
             h4_m: self.h4_m,
+            other_tracks: Vec::new(),
             shapes: Shapes::Sine {
                 span_m: l,
                 half_waves: cands.iter().map(|c| c.2).collect(),

@@ -1,7 +1,7 @@
 //! A train as data ([`TrainDescription`]): what the scenario reads, the train FMU carries as
 //! its resource, and both solvers build their [`Train`] from.
 
-use super::{Speed, Train, TrainVehicle, TravelDirection};
+use super::{Speed, SpeedChange, Train, TrainRun, TrainVehicle, TravelDirection};
 use crate::vehicle::coach::CoachParams;
 use crate::vehicle::simple::{moving_force, sprung_mass, MovingForceAxle, SprungMassAxle};
 use crate::vehicle::LinearVehicle;
@@ -29,6 +29,7 @@ impl TrainSpec {
                 .map(|a| TrainVehicle {
                     model: Arc::new(moving_force(a.load_n)),
                     offset_m: a.offset_m,
+                    run: 0,
                 })
                 .collect(),
             TrainSpec::SprungMass(list) => list
@@ -37,6 +38,7 @@ impl TrainSpec {
                     Ok(TrainVehicle {
                         model: Arc::new(sprung_mass(a)?),
                         offset_m: a.offset_m,
+                        run: 0,
                     })
                 })
                 .collect::<Result<_, String>>()?,
@@ -49,6 +51,7 @@ impl TrainSpec {
                     .map(|k| TrainVehicle {
                         model: coach.clone(),
                         offset_m: k as f64 * params.length_m,
+                        run: 0,
                     })
                     .collect()
             }
@@ -88,10 +91,20 @@ pub struct TrainDescription {
     /// description, and the train FMU's GUID made from it, read as before).
     #[serde(default, skip_serializing_if = "TravelDirection::is_forward")]
     pub direction: TravelDirection,
+    /// The track it runs on, 0 the first (not written when 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub track: usize,
+    /// A change of speed, braking or accelerating (None: constant speed; not written then).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub change: Option<SpeedChange>,
     pub hunting: HuntingParams,
     /// A steady crosswind on the car bodies (None: still air).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crosswind: Option<Crosswind>,
+}
+
+fn is_zero(k: &usize) -> bool {
+    *k == 0
 }
 
 /// A steady mean wind normal to the track (towards +y) on the car bodies
@@ -180,13 +193,18 @@ impl TrainDescription {
                 wind = Some(Arc::new(tw));
             }
         }
-        Ok(Train {
-            vehicles,
+        let run = TrainRun {
             speed_m_s,
-            x0_m: self.x0_m - self.direction.sign() * speed_m_s * start_time,
+            x0_m: self.x0_m,
+            t0_s: start_time,
             direction: self.direction,
+            track: self.track,
+            change: self.change,
             hunting,
+        };
+        Ok(Train {
             wind,
+            ..Train::single(vehicles, run)
         })
     }
 }

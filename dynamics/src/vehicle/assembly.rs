@@ -204,6 +204,7 @@ impl Builder {
             wheelsets,
             body,
             contact_distance_m,
+            inertia: Vec::new(),
         })
     }
 }

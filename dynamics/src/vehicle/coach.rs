@@ -298,7 +298,7 @@ impl CoachParams {
                 );
             }
         }
-        b.build(
+        let mut v = b.build(
             "coach_27dof",
             // the car body's DOFs come first, in the builder's order Y, θ, ψ, Z, φ
             BodyDofs {
@@ -310,6 +310,31 @@ impl CoachParams {
                 cg_height_m: p.h1_m + p.h2_m + p.h3_m,
             },
             p.contact_distance_m,
-        )
+        )?;
+        v.inertia = p.inertia_moments();
+        Ok(v)
+    }
+
+    /// The pitching moments of a longitudinal acceleration `a` (m/s², + speeding up), per
+    /// m/s², on the car body's and the bogies' pitch φ (nose up; the DOFs 4, 9 and 14). The
+    /// longitudinal forces pass from the car body to the bogies at the secondary suspension
+    /// (`h1` below the car body's centre of gravity, `h2` above the bogie's) and from the
+    /// bogies to the wheelsets at the axles (`h3` below the bogie's), each body's own
+    /// inertia `−m a` at its centre of gravity. The moments about each centre of gravity
+    /// (`M = z F_x`, z down) are then
+    ///
+    /// ```text
+    /// car body:  M_c = m_c a h1
+    /// bogie:     M_t = (m_c / 2) a h2 + (m_t + m_c / 2) a h3
+    /// ```
+    ///
+    /// (braking, a < 0: the car body and bogies pitch nose down), and the moment of the whole
+    /// coach's inertia about the axles, `a (m_c (h1 + h2 + h3) + 2 m_t h3)`, is carried by
+    /// the wheel loads. The wheelsets' own inertia acts at the axles and reaches the rails
+    /// below them through a wheel radius the model does not have: it is not included.
+    pub fn inertia_moments(&self) -> Vec<(usize, f64)> {
+        let (mc, mt) = (self.car_mass_kg, self.bogie_mass_kg);
+        let bogie = 0.5 * mc * self.h2_m + (mt + 0.5 * mc) * self.h3_m;
+        vec![(4, mc * self.h1_m), (9, bogie), (14, bogie)]
     }
 }

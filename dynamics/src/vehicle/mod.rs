@@ -115,9 +115,23 @@ pub struct LinearVehicle {
     /// Lateral distance between the two wheel–rail contact points, m (splits the roll
     /// moment into left and right wheel loads).
     pub contact_distance_m: f64,
+    /// The generalised forces of a longitudinal acceleration: `(d, g_d)`, DOF `d` loaded by
+    /// `g_d a` when the vehicle's speed changes at `a` m/s² (the pitching moments of its
+    /// bodies' inertia, N·m per m/s²; empty: none modelled). See
+    /// [`coach::CoachParams::build`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inertia: Vec<(usize, f64)>,
 }
 
 impl LinearVehicle {
+    /// The generalised forces of a longitudinal acceleration `a`, m/s² ([`Self::inertia`]),
+    /// added to `f`.
+    pub fn add_inertia(&self, a: f64, f: &mut [f64]) {
+        for &(d, g) in &self.inertia {
+            f[d] += g * a;
+        }
+    }
+
     /// The vehicle turned end for end on the track (facing −x): its rail degrees of freedom
     /// (Y, θ, Z) seen through S = diag(−1, −1, 1), so `K_vw S`, `C_vw S`, `S K_ww S`,
     /// `S C_ww S`, `S p0` (the wheelset inertia is diagonal and stays). Its own degrees of

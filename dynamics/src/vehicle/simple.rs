@@ -110,6 +110,7 @@ pub fn moving_force(load_n: f64) -> LinearVehicle {
             cg_height_m: 0.0,
         },
         contact_distance_m: 1.5,
+        inertia: Vec::new(),
     }
 }
 

@@ -57,16 +57,17 @@ pub fn assemble_eq14(
         k[(nv + n, nv + n)] = omega[n].powi(2);
     }
     let mut shapes = vec![[0.0; 3]; nb];
-    for (w, ws) in sol.train.wheelsets().iter().enumerate() {
+    for ws in sol.train.wheelsets().iter() {
         let model = &sol.train.vehicles[ws.vehicle].model;
         let cw = &model.wheelsets[ws.local];
         let n = model.ndof();
         let ov = off[ws.vehicle];
-        let x = sol.train.x_at(ws.offset_m, t);
+        let x = sol.train.x_of(ws, t);
         // Ψ = 0 off the deck (rail_shapes zeroes it).
         sol.bridge.rail_shapes(x, &mut shapes);
         let psi = DMatrix::from_fn(3, nb, |r, j| shapes[j][r]);
-        let [r, rd, rdd]: [Vector3<f64>; 3] = rail_prescribed(&*sol.track, &sol.train, w, x, t);
+        let [r, rd, rdd]: [Vector3<f64>; 3] =
+            rail_prescribed(&*sol.track, &sol.train.runs[ws.run], ws.in_run, x, t);
         let mw = DMatrix::from_iterator(3, 3, cw.m_w.iter().copied());
         let kww = DMatrix::from_iterator(3, 3, cw.k_ww.iter().copied());
         let cww = DMatrix::from_iterator(3, 3, cw.c_ww.iter().copied());

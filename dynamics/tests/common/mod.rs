@@ -4,7 +4,7 @@ pub mod eq14;
 
 use std::sync::Arc;
 use tbi_dynamics::bridge::{ModalBridge, SimplySupported};
-use tbi_dynamics::train::{Train, TrainVehicle};
+use tbi_dynamics::train::{Train, TrainRun, TrainVehicle};
 use tbi_dynamics::vehicle::LinearVehicle;
 
 /// Yang & Yau (1997) beam: L = 25 m, E = 2.87e9 Pa, I = 2.9 m⁴, μ = 2303 kg/m.
@@ -29,20 +29,18 @@ pub fn yang_yau_beam(modes: usize, damping: f64) -> SimplySupported {
 
 pub fn train_of(vehicles: Vec<(LinearVehicle, f64)>, speed: f64, x0: f64) -> Train {
     let n: usize = vehicles.iter().map(|v| v.0.wheelsets.len()).sum();
-    Train {
-        vehicles: vehicles
-            .into_iter()
-            .map(|(m, off)| TrainVehicle {
-                model: Arc::new(m),
-                offset_m: off,
-            })
-            .collect(),
-        speed_m_s: speed,
-        x0_m: x0,
-        direction: Default::default(),
-        hunting: tbi_track::WheelHunting::new(&tbi_track::HuntingParams::default(), n).unwrap(),
-        wind: None,
-    }
+    let vehicles = (vehicles.into_iter())
+        .map(|(m, off)| TrainVehicle {
+            model: Arc::new(m),
+            offset_m: off,
+            run: 0,
+        })
+        .collect();
+    let hunting = tbi_track::WheelHunting::new(&tbi_track::HuntingParams::default(), n).unwrap();
+    Train::single(
+        vehicles,
+        TrainRun::steady(speed, x0, Default::default(), hunting),
+    )
 }
 
 /// Midspan vertical displacement of a modal bridge.

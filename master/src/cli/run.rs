@@ -10,6 +10,10 @@ use std::path::PathBuf;
 pub struct RunArgs {
     /// Scenario file (TOML). Default: the embedded Tsing Ma case (`tbi scenario show`).
     pub scenario: Option<PathBuf>,
+    /// Run the embedded meeting case instead: the Tsing Ma case with a second 8-coach train
+    /// on the other track (e = ±2.05 m), the two meeting at mid main span.
+    #[arg(long, conflicts_with = "scenario")]
+    pub meeting: bool,
     /// Solver: `monolithic` or `cosim` (default: the scenario's `run.solver`).
     #[arg(long)]
     pub solver: Option<String>,
@@ -39,11 +43,14 @@ pub struct RunArgs {
 }
 
 pub fn main(args: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let mut scenario = crate::scenario::load(
-        args.scenario.as_deref(),
-        args.solver.as_deref(),
-        args.speed_kmh,
-    )?;
+    let mut scenario = match args.meeting {
+        true => crate::scenario::load_meeting(args.solver.as_deref(), args.speed_kmh)?,
+        false => crate::scenario::load(
+            args.scenario.as_deref(),
+            args.solver.as_deref(),
+            args.speed_kmh,
+        )?,
+    };
     if let Some(v) = args.fmi_version {
         if scenario.run.solver != crate::scenario::SolverKind::Cosim {
             return Err(format!(

@@ -49,8 +49,19 @@ pub struct Exported {
     pub train_resources: TrainDescription,
     pub bridge_layout: BridgeLayout,
     pub train_layout: TrainLayout,
+    /// The trains after the first (`train2.fmu`, …), each its own FMU.
+    pub more_trains: Vec<ExportedTrain>,
     /// The wind FMU, its resources and layout, in a turbulent wind.
     pub wind: Option<(PathBuf, WindResources, WindLayout)>,
+}
+
+/// A train FMU of an export.
+#[derive(Debug, Clone)]
+pub struct ExportedTrain {
+    pub path: PathBuf,
+    pub guid: String,
+    pub resources: TrainDescription,
+    pub layout: TrainLayout,
 }
 
 /// `tbi export`: the scenario's FMUs and SSP into `out`, each FMU instantiated once as an
@@ -67,9 +78,11 @@ pub fn export_scenario(
         // (FMPy validates and simulates them)
         return Ok(e);
     }
-    for fmu in [&e.bridge, &e.train] {
+    let mut fmus = vec![&e.bridge, &e.train];
+    fmus.extend(e.more_trains.iter().map(|t| &t.path));
+    for fmu in &fmus {
         if let Err(why) = check_instantiates(fmu) {
-            for f in [&e.bridge, &e.train, &e.ssp] {
+            for f in fmus.iter().chain([&&e.ssp]) {
                 let _ = std::fs::remove_file(f);
             }
             return Err(format!(
@@ -279,9 +292,14 @@ pub fn export_with(
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let libs = library_dir()?;
     let bridge = BridgePackage::new(bridge_resources(model), model.track.clone())?;
-    let train = TrainPackage::new(model.train_res.clone())?;
+    let trains = (model.trains.iter())
+        .map(|t| TrainPackage::new(t.clone()))
+        .collect::<Result<Vec<_>, _>>()?;
     let wind = wind_resources(model)?.map(WindPackage::new).transpose()?;
-    let mut fmus: Vec<(Side, &dyn Contract)> = vec![(Side::Bridge, &bridge), (Side::Train, &train)];
+    let mut fmus: Vec<(Side, &dyn Contract)> = vec![(Side::Bridge, &bridge)];
+    for (k, t) in trains.iter().enumerate() {
+        fmus.push((Side::Train(k), t));
+    }
     if let Some(w) = &wind {
         fmus.push((Side::Wind, w));
     }
@@ -308,11 +326,8 @@ pub fn export_with(
         let parts: Vec<(Side, PathBuf, Vec<Var>)> = (fmus.iter())
             .map(|&(side, c)| (side, out.join(side.fmu_file()), c.variables()))
             .collect();
-        let links = connections(
-            &bridge.layout,
-            &train.layout,
-            wind.as_ref().map(|w| &w.layout),
-        )?;
+        let layouts: Vec<&TrainLayout> = trains.iter().map(|t| &t.layout).collect();
+        let links = connections(&bridge.layout, &layouts, wind.as_ref().map(|w| &w.layout))?;
         let probe_names: Vec<String> = model.probes.iter().map(|p| p.0.clone()).collect();
         let outputs = system_outputs(&parts, &probe_names);
         ssd = write_ssp(
@@ -324,17 +339,25 @@ pub fn export_with(
             (coupling, model.dt, model.output_every),
         )?;
     }
+    let mut trains = trains.into_iter().enumerate().map(|(k, t)| ExportedTrain {
+        path: out.join(Side::Train(k).fmu_file()),
+        guid: t.guid(),
+        resources: t.resources,
+        layout: t.layout,
+    });
+    let train = trains.next().expect("a train");
     Ok(Exported {
         bridge: out.join(Side::Bridge.fmu_file()),
-        train: out.join(Side::Train.fmu_file()),
+        train: train.path,
         ssp,
         ssd,
         bridge_guid: bridge.guid(),
-        train_guid: train.guid(),
+        train_guid: train.guid,
         bridge_resources: bridge.resources,
         train_resources: train.resources,
         bridge_layout: bridge.layout,
         train_layout: train.layout,
+        more_trains: trains.collect(),
         wind: wind.map(|w| (out.join(Side::Wind.fmu_file()), w.resources, w.layout)),
     })
 }
@@ -350,8 +373,21 @@ fn bridge_resources(model: &Model) -> BridgeResources {
             })
             .collect(),
         n_wheelsets: model.train.n_wheelsets(),
+        wheelset_tracks: wheelset_tracks(&model.train),
         has_track_record: false,
     }
+}
+
+/// The track of each wheelset of `train`, empty when all run on the first (as a one-track
+/// bridge's resources have always been).
+fn wheelset_tracks(train: &tbi_dynamics::train::Train) -> Vec<usize> {
+    let tracks: Vec<usize> = (train.wheelsets().iter())
+        .map(|w| train.runs[w.run].track)
+        .collect();
+    if tracks.iter().all(|&k| k == 0) {
+        return Vec::new();
+    }
+    tracks
 }
 
 /// The wind FMU's resources in a turbulent wind (a measured record resampled at the deck
@@ -367,7 +403,7 @@ fn wind_resources(model: &Model) -> Result<Option<WindResources>, String> {
             .points_on(model.bridge.x_start_m, model.bridge.x_end_m)
             .0,
         duration_s: spec.duration_s,
-        n_vehicles: model.train_res.spec.n_vehicles(),
+        n_vehicles: model.trains[0].spec.n_vehicles(),
         record: None,
         admittance: spec.admittance.map(|c| (c, spec.width_m)),
     };

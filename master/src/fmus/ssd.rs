@@ -11,21 +11,33 @@ use tbi_coupling::CouplingConfig;
 use tbi_ssp::SSP_FMU_FOLDER;
 
 /// The FMUs of the coupled system, in the order of [`tbi_coupling::System`]'s
-/// participants (the wind last, in a turbulent wind only).
+/// participants: the bridge, each train (one FMU per train), and the wind last (in a
+/// turbulent wind only).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Side {
-    Bridge = 0,
-    Train = 1,
-    Wind = 2,
+    Bridge,
+    /// Train `k` (0-based).
+    Train(usize),
+    Wind,
 }
 
 impl Side {
-    /// The SSP component name.
-    pub fn name(self) -> &'static str {
+    /// The SSP component name: `bridge`, `train` (the first train), `train2`, …, `wind`.
+    pub fn name(self) -> String {
         match self {
-            Side::Bridge => "bridge",
-            Side::Train => "train",
-            Side::Wind => "wind",
+            Side::Bridge => "bridge".into(),
+            Side::Train(0) => "train".into(),
+            Side::Train(k) => format!("train{}", k + 1),
+            Side::Wind => "wind".into(),
+        }
+    }
+
+    /// Its participant index in a system of `n_trains` trains.
+    pub fn index(self, n_trains: usize) -> usize {
+        match self {
+            Side::Bridge => 0,
+            Side::Train(k) => 1 + k,
+            Side::Wind => 1 + n_trains,
         }
     }
 
@@ -41,56 +53,82 @@ impl Side {
     }
 }
 
-/// One connection: an output of one FMU feeds an input of the other; the variable has the
-/// same name on both sides.
+/// One connection: an output of one FMU feeds an input of the other. The variable has the
+/// same name on both sides (`name`) except where a train's wheelset meets the bridge slot
+/// it fills, which a later train's wheelsets number on from the trains before it
+/// (`to_name`, the input's name, then).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Link {
     pub from: Side,
     pub from_vr: u32,
     pub to: Side,
     pub to_vr: u32,
+    /// The output's name.
     pub name: String,
+    /// The input's name when it differs.
+    pub to_name: Option<String>,
+}
+
+impl Link {
+    /// The input's name.
+    pub fn input_name(&self) -> &str {
+        self.to_name.as_deref().unwrap_or(&self.name)
+    }
 }
 
 /// The connections of the coupled system, from the layouts: per wheelset, its
 /// [`WHEEL_CHANNELS`](fmu_contract::WHEEL_CHANNELS) train → bridge, then its
-/// [`RAIL_CHANNELS`](fmu_contract::RAIL_CHANNELS) bridge → train; with a wind
-/// FMU, per car body its position train → wind and its along-wind turbulence wind → train,
-/// then per deck point its turbulence wind → bridge.
+/// [`RAIL_CHANNELS`](fmu_contract::RAIL_CHANNELS) bridge → train, the wheelsets of the first
+/// train in the bridge's first slots, the next train's after them, and so on; with a wind
+/// FMU (one train), per car body its position train → wind and its along-wind turbulence
+/// wind → train, then per deck point its turbulence wind → bridge.
 pub fn connections(
     b: &BridgeLayout,
-    t: &TrainLayout,
+    trains: &[&TrainLayout],
     wind: Option<&WindLayout>,
 ) -> Result<Vec<Link>, String> {
-    if b.n_wheelsets() != t.n_wheelsets() {
+    let total: usize = trains.iter().map(|t| t.n_wheelsets()).sum();
+    if b.n_wheelsets() != total {
         return Err(format!(
-            "the bridge FMU has {} wheelsets, the train FMU {}",
+            "the bridge FMU has {} wheelsets, the train FMUs {total}",
             b.n_wheelsets(),
-            t.n_wheelsets()
+        ));
+    }
+    if wind.is_some() && trains.len() != 1 {
+        return Err(format!(
+            "a wind FMU couples to one train FMU, not {}",
+            trains.len()
         ));
     }
     let mut c = Vec::new();
-    for w in 0..b.n_wheelsets() {
-        for k in 0..b.wheel_in.width() {
-            c.push(Link {
-                from: Side::Train,
-                from_vr: t.wheel_out.vr(w, k),
-                to: Side::Bridge,
-                to_vr: b.wheel_in.vr(w, k),
-                name: b.wheel_in.name(w, k),
-            });
+    let mut slot = 0;
+    for (i, t) in trains.iter().enumerate() {
+        for w in 0..t.n_wheelsets() {
+            let s = slot + w;
+            for k in 0..b.wheel_in.width() {
+                c.push(Link {
+                    from: Side::Train(i),
+                    from_vr: t.wheel_out.vr(w, k),
+                    to: Side::Bridge,
+                    to_vr: b.wheel_in.vr(s, k),
+                    name: t.wheel_out.name(w, k),
+                    to_name: (s != w).then(|| b.wheel_in.name(s, k)),
+                });
+            }
+            for k in 0..b.rail_out.width() {
+                c.push(Link {
+                    from: Side::Bridge,
+                    from_vr: b.rail_out.vr(s, k),
+                    to: Side::Train(i),
+                    to_vr: t.rail_in.vr(w, k),
+                    name: b.rail_out.name(s, k),
+                    to_name: (s != w).then(|| t.rail_in.name(w, k)),
+                });
+            }
         }
-        for k in 0..b.rail_out.width() {
-            c.push(Link {
-                from: Side::Bridge,
-                from_vr: b.rail_out.vr(w, k),
-                to: Side::Train,
-                to_vr: t.rail_in.vr(w, k),
-                name: b.rail_out.name(w, k),
-            });
-        }
+        slot += t.n_wheelsets();
     }
-    if let Some(wl) = wind {
+    if let (Some(wl), [t]) = (wind, trains) {
         if wl.body_in.count != t.body_x_out.count || wl.deck_out.count != b.wind_in.count {
             return Err(format!(
                 "the wind FMU has {} car bodies and {} deck points, the train FMU {} car bodies, the bridge FMU {} deck points",
@@ -102,18 +140,20 @@ pub fn connections(
         }
         for i in 0..wl.body_in.count {
             c.push(Link {
-                from: Side::Train,
+                from: Side::Train(0),
                 from_vr: t.body_x_out.vr(i, 0),
                 to: Side::Wind,
                 to_vr: wl.body_in.vr(i, 0),
                 name: wl.body_in.name(i, 0),
+                to_name: None,
             });
             c.push(Link {
                 from: Side::Wind,
                 from_vr: wl.body_out.vr(i, 0),
-                to: Side::Train,
+                to: Side::Train(0),
                 to_vr: t.wind_in.vr(i, 0),
                 name: t.wind_in.name(i, 0),
+                to_name: None,
             });
         }
         for j in 0..wl.deck_out.count {
@@ -124,6 +164,7 @@ pub fn connections(
                     to: Side::Bridge,
                     to_vr: b.wind_in.vr(j, k),
                     name: b.wind_in.name(j, k),
+                    to_name: None,
                 });
             }
         }
@@ -160,7 +201,8 @@ pub(crate) fn system_outputs(
                     Some(p) => format!("{p}.{channel}"),
                     None => continue,
                 },
-                (Side::Train, "veh") => format!("veh{k}.{channel}"),
+                (Side::Train(0), "veh") => format!("veh{k}.{channel}"),
+                (Side::Train(i), "veh") => format!("train{}.veh{k}.{channel}", i + 1),
                 _ => continue,
             };
             out.push((name, *side, v.name.clone()));
@@ -205,9 +247,9 @@ pub(crate) fn write_ssp(
         .collect();
     let mut conns = String::new();
     for link in links {
-        let name = xml_escape(&link.name);
+        let (from, to) = (xml_escape(&link.name), xml_escape(link.input_name()));
         conns.push_str(&format!(
-            "      <ssd:Connection startElement=\"{}\" startConnector=\"{name}\" endElement=\"{}\" endConnector=\"{name}\"/>\n",
+            "      <ssd:Connection startElement=\"{}\" startConnector=\"{from}\" endElement=\"{}\" endConnector=\"{to}\"/>\n",
             link.from.name(),
             link.to.name(),
         ));

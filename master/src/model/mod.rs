@@ -3,6 +3,7 @@
 
 pub mod modes;
 pub mod suspension;
+mod trains;
 
 use crate::scenario::{Bridge, ModalOptions, Scenario};
 use crate::text::num;
@@ -18,10 +19,10 @@ use tbi_track::Irregularity;
 pub struct Model {
     pub name: String,
     pub bridge: ModalBridge,
-    /// The train as built from `train_res` (monolithic solver, recorder).
+    /// The trains together as built from `trains` (monolithic solver, recorder).
     pub train: Train,
-    /// The train's description: what the train FMU carries and builds the same train from.
-    pub train_res: TrainDescription,
+    /// Each train's description: what its train FMU carries and builds the same train from.
+    pub trains: Vec<TrainDescription>,
     pub track: Arc<Irregularity>,
     /// Probe names and positions, m.
     pub probes: Vec<(String, f64)>,
@@ -45,7 +46,7 @@ impl Model {
     /// offload factor, `0e0`, and the axle load).
     pub fn history_row_bytes(&self) -> f64 {
         let varying = 1.0
-            + 4.0 * self.probes.len() as f64
+            + 5.0 * self.probes.len() as f64
             + self
                 .train
                 .vehicles
@@ -55,13 +56,15 @@ impl Model {
                         + f64::from(u8::from(v.model.body.vertical.is_some()))
                 })
                 .sum::<f64>();
-        let wheelsets: f64 = match &self.train_res.spec {
-            tbi_dynamics::train::TrainSpec::MovingForce(axles) => axles
-                .iter()
-                .map(|a| 16.0 + format!("{:e},", a.load_n).len() as f64)
-                .sum(),
-            _ => 5.0 * VALUE_BYTES * self.train.n_wheelsets() as f64,
-        };
+        let wheelsets: f64 = (self.trains.iter())
+            .map(|t| match &t.spec {
+                tbi_dynamics::train::TrainSpec::MovingForce(axles) => axles
+                    .iter()
+                    .map(|a| 16.0 + format!("{:e},", a.load_n).len() as f64)
+                    .sum(),
+                spec => 5.0 * VALUE_BYTES * spec.n_wheelsets() as f64,
+            })
+            .sum();
         varying * VALUE_BYTES + wheelsets
     }
 
@@ -308,28 +311,29 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
             ));
         }
     }
-    let backward = !s.train.direction.is_forward();
-    let train_res = train_description(s, &bridge)?;
-    let train = train_res
-        .build(0.0)
-        .map_err(|e| InputError::field(&s.origin, "train", s.train.kind(), &e))?;
-    let (speed, x0) = (s.run.speed.m_s(), train_res.x0_m);
-    let length = train.length_m();
-    // the distance the first axle runs until the last has left the deck
-    let run_m = if backward {
-        x0 - bridge.x_start_m
-    } else {
-        bridge.x_end_m - x0
-    };
-    let t_end = (run_m + length).max(0.0) / speed + s.run.free_vibration_s;
+    if !s.tracks.is_empty() {
+        [bridge.e_m, bridge.h4_m] = s.tracks[0];
+        bridge.other_tracks = s.tracks[1..].to_vec();
+    }
+    let trains::Trains {
+        descriptions: trains,
+        train,
+        last_leaves_s,
+    } = trains::trains(s, &bridge)?;
+    let t_end = last_leaves_s + s.run.free_vibration_s;
     // (saturates at usize::MAX for absurd inputs; Limits::check refuses those)
     let steps = (t_end / s.run.dt_s - 1e-9).ceil().max(1.0) as usize;
-    let travel = speed * steps as f64 * s.run.dt_s;
-    let (x_lo, x_hi) = if backward {
-        (x0 - travel - 1.0, x0 + length + 1.0)
-    } else {
-        (x0 - length - 1.0, x0 + travel + 1.0)
-    };
+    // the stretch of track every axle runs over
+    let t_last = steps as f64 * s.run.dt_s;
+    let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (k, run) in train.runs.iter().enumerate() {
+        for x in [0.0, train.length_m(k)] {
+            for t in [0.0, t_last] {
+                let at = run.x_at(x, t);
+                (x_lo, x_hi) = (x_lo.min(at - 1.0), x_hi.max(at + 1.0));
+            }
+        }
+    }
     let track = s.track.build(x_lo, x_hi, &s.base_dir).map_err(|e| {
         InputError::field(
             &s.origin,
@@ -381,7 +385,7 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
         name: s.name.clone(),
         bridge,
         train,
-        train_res,
+        trains,
         track: Arc::new(track),
         probes: s.probes.iter().map(|p| (p.name.clone(), p.x_m)).collect(),
         dt: s.run.dt_s,
@@ -391,54 +395,6 @@ pub fn build(s: &Scenario) -> Result<Model, InputError> {
 }
 
 /// The irregularity spec as a user wrote it (for messages).
-/// The train's description from the scenario: it enters at the deck start (forward) or end
-/// (backward) unless `run.start_x_m` says otherwise, and must cross the deck.
-fn train_description(s: &Scenario, bridge: &ModalBridge) -> Result<TrainDescription, InputError> {
-    let backward = !s.train.direction.is_forward();
-    let train_res = TrainDescription {
-        spec: s.train.spec.clone(),
-        speed_m_s: s.run.speed,
-        x0_m: s.run.start_x_m.unwrap_or(if backward {
-            bridge.x_end_m
-        } else {
-            bridge.x_start_m
-        }),
-        direction: s.train.direction,
-        hunting: s.train.hunting.clone(),
-        crosswind: s.wind.as_ref().map(|w| tbi_dynamics::train::Crosswind {
-            mean_speed_m_s: w.mean_speed_m_s,
-            air_density_kg_m3: w.air_density_kg_m3,
-            aero: w.vehicle.clone(),
-            on_deck: w.vehicle_on_deck.clone(),
-            deck_m: Some([bridge.x_start_m, bridge.x_end_m]),
-            turbulent: w.is_turbulent(),
-        }),
-    };
-    if !backward && train_res.x0_m >= bridge.x_end_m {
-        return Err(InputError::field(
-            &s.origin,
-            "run.start_x_m",
-            num(train_res.x0_m),
-            format!(
-                "the first axle would start beyond the deck end at {} m, so the train never crosses the bridge",
-                num(bridge.x_end_m)
-            ),
-        ));
-    }
-    if backward && train_res.x0_m <= bridge.x_start_m {
-        return Err(InputError::field(
-            &s.origin,
-            "run.start_x_m",
-            num(train_res.x0_m),
-            format!(
-                "the first axle of a backward train would start before the deck start at {} m, so the train never crosses the bridge",
-                num(bridge.x_start_m)
-            ),
-        ));
-    }
-    Ok(train_res)
-}
-
 fn track_spec_text(spec: &tbi_track::IrregularitySpec) -> String {
     match spec {
         tbi_track::IrregularitySpec::None => "\"none\"".into(),

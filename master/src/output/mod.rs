@@ -8,3 +8,4 @@ pub mod outdir;
 pub mod plots;
 pub mod progress;
 pub mod summary;
+pub mod trains;

@@ -185,10 +185,6 @@ pub fn write_run_plots(
         titled("Deck lateral displacement"),
         titled("Deck lateral acceleration"),
     );
-    let (cl, cv) = (
-        titled("Car body 1 lateral acceleration"),
-        titled("Car body 1 vertical acceleration"),
-    );
     if !model.probes.is_empty() {
         figure(
             &out.join("deck_vertical.svg"),
@@ -212,6 +208,7 @@ pub fn write_run_plots(
         let lateral = [
             probe_series("lateral_displacement_m", 1000.0),
             probe_series("lateral_acceleration_m_s2", 1.0),
+            probe_series("torsion_rad", 1000.0),
         ];
         let path = out.join("deck_lateral.svg");
         if lateral
@@ -219,10 +216,15 @@ pub fn write_run_plots(
             .flatten()
             .any(|(_, v)| v.iter().any(|&x| x != 0.0))
         {
-            let [d, a] = lateral;
+            let [d, a, r] = lateral;
+            let lt = titled("Deck torsion");
             figure(
                 &path,
-                &[(ld.as_str(), "mm", d), (la.as_str(), "m/s²", a)],
+                &[
+                    (ld.as_str(), "mm", d),
+                    (la.as_str(), "m/s²", a),
+                    (lt.as_str(), "mrad", r),
+                ],
                 &t,
             )?;
         } else {
@@ -234,23 +236,43 @@ pub fn write_run_plots(
             }
         }
     }
-    let mut veh = Vec::new();
-    if let Some(c) = h.column("veh1.lateral_acceleration_m_s2") {
-        veh.push((
-            cl.as_str(),
-            "m/s²",
-            vec![("lateral".to_string(), c.to_vec())],
-        ));
-    }
-    if let Some(c) = h.column("veh1.vertical_acceleration_m_s2") {
-        veh.push((
-            cv.as_str(),
-            "m/s²",
-            vec![("vertical".to_string(), c.to_vec())],
-        ));
-    }
-    if !veh.is_empty() {
-        figure(&out.join("vehicle1_acceleration.svg"), &veh, &t)?;
+    // the first car body of each train: `vehicle1_acceleration.svg`, then
+    // `train2_vehicle1_acceleration.svg`, …
+    for k in 1..=model.trains.len() {
+        let (column, file, body) = match k {
+            1 => (
+                "veh1".to_string(),
+                "vehicle1_acceleration.svg".to_string(),
+                "Car body 1".to_string(),
+            ),
+            _ => (
+                format!("train{k}.veh1"),
+                format!("train{k}_vehicle1_acceleration.svg"),
+                format!("Train {k}, car body 1"),
+            ),
+        };
+        let (cl, cv) = (
+            titled(&format!("{body} lateral acceleration")),
+            titled(&format!("{body} vertical acceleration")),
+        );
+        let mut veh = Vec::new();
+        if let Some(c) = h.column(&format!("{column}.lateral_acceleration_m_s2")) {
+            veh.push((
+                cl.as_str(),
+                "m/s²",
+                vec![("lateral".to_string(), c.to_vec())],
+            ));
+        }
+        if let Some(c) = h.column(&format!("{column}.vertical_acceleration_m_s2")) {
+            veh.push((
+                cv.as_str(),
+                "m/s²",
+                vec![("vertical".to_string(), c.to_vec())],
+            ));
+        }
+        if !veh.is_empty() {
+            figure(&out.join(file), &veh, &t)?;
+        }
     }
     Ok(())
 }

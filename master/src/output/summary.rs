@@ -42,6 +42,12 @@ pub struct Summary {
     /// Wheel–rail safety maxima: only when the wheel loads vary (not for moving forces).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub safety: Option<SafetyMax>,
+    /// Several trains: each train's run and results (the maxima above are over all).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub trains: Vec<super::trains::TrainResult>,
+    /// Several trains: where and when trains running towards each other meet on the deck.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub meetings: Vec<super::trains::Meeting>,
     /// Co-simulation only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coupling: Option<CouplingSummary>,
@@ -154,7 +160,7 @@ impl Summary {
             train: TrainSummary {
                 vehicles: model.train.vehicles.len(),
                 wheelsets: model.train.n_wheelsets(),
-                length_m: model.train.length_m(),
+                length_m: model.train.length_m(0),
             },
             probes: model
                 .probes
@@ -170,6 +176,8 @@ impl Summary {
                 .then(|| rec.vehicles.clone()),
             safety: (!matches!(s.train.spec, tbi_dynamics::train::TrainSpec::MovingForce(_)))
                 .then(|| rec.safety.clone()),
+            trains: super::trains::results(model, rec),
+            meetings: super::trains::meetings(model),
             coupling: None,
             steps_ahead: None,
         }
@@ -248,10 +256,15 @@ pub fn text(s: &Summary, out: &Path) -> (String, bool) {
         probe_max(|p| p.lateral_displacement_max_m),
         probe_max(|p| p.lateral_acceleration_max_m_s2),
     ) {
-        if y > 0.0 || l > 0.0 {
+        let torsion = probe_max(|p| p.torsion_max_rad).filter(|(_, r)| *r > 0.0);
+        let torsion = match torsion {
+            Some((nr, r)) => format!("; torsion {:.4} mrad ({nr})", 1000.0 * r),
+            None => String::new(),
+        };
+        if y > 0.0 || l > 0.0 || !torsion.is_empty() {
             let _ = writeln!(
                 t,
-                "        lateral displacement {:.3} mm ({ny}); lateral acceleration {l:.4} m/s² ({nl})",
+                "        lateral displacement {:.3} mm ({ny}); lateral acceleration {l:.4} m/s² ({nl}){torsion}",
                 1000.0 * y,
             );
         }
@@ -280,6 +293,9 @@ pub fn text(s: &Summary, out: &Path) -> (String, bool) {
         } else {
             let _ = writeln!(t, "  safety: {offload} (no lateral wheel forces modelled)");
         }
+    }
+    for line in train_lines(s) {
+        let _ = writeln!(t, "{line}");
     }
     if let Some(c) = &s.coupling {
         let _ = writeln!(
@@ -354,4 +370,52 @@ fn car_body_line(vehicles: Option<&VehicleMax>) -> String {
             String::new()
         }
     )
+}
+
+/// The short summary's lines of each train and meeting (none for one train).
+fn train_lines(s: &Summary) -> Vec<String> {
+    let mut out = Vec::new();
+    for r in &s.trains {
+        let mut line = format!(
+            "  train {}: track {}, {:?} at {} km/h",
+            r.train,
+            r.track,
+            r.direction,
+            crate::text::num(r.speed_kmh)
+        )
+        .to_lowercase();
+        if let Some(c) = &r.speed_change {
+            line += &format!(
+                ", {} at {} m/s² from x = {} m to {} km/h",
+                if c.rate_m_s2 < 0.0 {
+                    "braking"
+                } else {
+                    "accelerating"
+                },
+                crate::text::num(c.rate_m_s2.abs()),
+                crate::text::num(c.from_x_m),
+                crate::text::num(c.to_speed_m_s * 3.6)
+            );
+        }
+        if let Some(c) = &r.car_bodies {
+            line += &format!(
+                "; car bodies {:.4} m/s² vertical, {:.4} m/s² lateral",
+                c.vertical_acceleration_max_m_s2, c.lateral_acceleration_max_m_s2
+            );
+        }
+        if let Some(f) = &r.safety {
+            line += &format!(
+                "; derail factor {:.3}, offload factor {:.3}",
+                f.derail_factor_max, f.offload_factor_max
+            );
+        }
+        out.push(line);
+    }
+    for m in &s.meetings {
+        out.push(format!(
+            "  trains {} and {} meet at x = {:.1} m, t = {:.3} s",
+            m.trains[0], m.trains[1], m.x_m, m.time_s
+        ));
+    }
+    out
 }

@@ -94,10 +94,22 @@ impl Check<'_> {
         Ok(())
     }
 
-    pub(super) fn run(&self, r: &FileRun) -> Result<Run, InputError> {
+    /// `[run]`, its speed the first train's own (`first_speed_kmh`) when it gives one.
+    pub(super) fn run(&self, r: &FileRun, first_speed_kmh: Option<f64>) -> Result<Run, InputError> {
         // km/h as written for reports, m/s checked for the physics.
-        let speed = Speed::from_m_s(r.speed_kmh / 3.6)
-            .map_err(|e| self.err("run.speed_kmh", num(r.speed_kmh), &e.to_string()))?;
+        let (field, speed_kmh) = match (first_speed_kmh, r.speed_kmh) {
+            (Some(v), _) => ("train.speed_kmh", v),
+            (None, Some(v)) => ("run.speed_kmh", v),
+            (None, None) => {
+                return Err(self.err(
+                    "run.speed_kmh",
+                    "(missing)",
+                    "give the speed in [run] or in every train (train.speed_kmh)",
+                ))
+            }
+        };
+        let speed = Speed::from_m_s(speed_kmh / 3.6)
+            .map_err(|e| self.err(field, num(speed_kmh), &e.to_string()))?;
         let dt_s = self.within("run.dt_s", r.dt_s, limits::DT_S, "s")?;
         let free_vibration_s = self.within(
             "run.free_vibration_s",
@@ -115,7 +127,7 @@ impl Check<'_> {
             return Err(self.err("run.fmi_version", r.fmi_version, "must be 2 or 3"));
         }
         Ok(Run {
-            speed_kmh: r.speed_kmh,
+            speed_kmh,
             speed,
             dt_s,
             solver: r.solver,
@@ -124,6 +136,41 @@ impl Check<'_> {
             output_every: r.output_every,
             fmi_version: r.fmi_version,
         })
+    }
+
+    /// `[[bridge.track]]`: each track's `(eccentricity, height)`, m; refused beside
+    /// `track_eccentricity_m` or `track_height_m`.
+    pub(super) fn tracks(&self, b: &FileBridge) -> Result<Vec<[f64; 2]>, InputError> {
+        let Some(tracks) = &b.track else {
+            return Ok(Vec::new());
+        };
+        if b.track_eccentricity_m.is_some() || b.track_height_m.is_some() {
+            return Err(self.err(
+                "bridge.track",
+                "(set)",
+                "give the tracks either as [[bridge.track]] or as track_eccentricity_m and track_height_m, not both",
+            ));
+        }
+        if tracks.is_empty() {
+            return Err(self.err("bridge.track", "[]", "give at least one track"));
+        }
+        (tracks.iter().enumerate())
+            .map(|(k, t)| {
+                let e = self.within(
+                    &format!("bridge.track[{}].eccentricity_m", k + 1),
+                    t.eccentricity_m,
+                    (-50.0, 50.0),
+                    "m",
+                )?;
+                let h = self.within(
+                    &format!("bridge.track[{}].height_m", k + 1),
+                    t.height_m,
+                    (-50.0, 50.0),
+                    "m",
+                )?;
+                Ok([e, h])
+            })
+            .collect()
     }
 
     /// `bridge.modes_rule`, or its default for the train's kind.

@@ -14,7 +14,8 @@ pub(super) struct FileScenario {
     pub(super) name: String,
     pub(super) run: FileRun,
     pub(super) bridge: FileBridge,
-    pub(super) train: FileTrain,
+    /// `[train]`, or `[[train]]` once per train.
+    pub(super) train: OneOrMany<FileTrain>,
     #[serde(default)]
     pub(super) track: FileTrack,
     #[serde(default, rename = "probe")]
@@ -31,7 +32,8 @@ pub(super) fn default_name() -> String {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct FileRun {
-    pub(super) speed_kmh: f64,
+    /// The trains' speed, unless each gives its own.
+    pub(super) speed_kmh: Option<f64>,
     #[serde(default = "default_dt")]
     pub(super) dt_s: f64,
     #[serde(default)]
@@ -74,6 +76,8 @@ pub(super) struct FileBridge {
     pub(super) modes_rule: Option<String>,
     pub(super) track_eccentricity_m: Option<f64>,
     pub(super) track_height_m: Option<f64>,
+    /// `[[bridge.track]]`: the tracks, instead of `track_eccentricity_m`/`track_height_m`.
+    pub(super) track: Option<Vec<FileTrackPlace>>,
     // simply supported
     pub(super) span_m: Option<f64>,
     // beam
@@ -99,6 +103,14 @@ pub(super) struct FileBridge {
 
 pub(super) fn default_modes() -> usize {
     20
+}
+
+/// `[[bridge.track]]`: where a track lies on the deck.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FileTrackPlace {
+    pub(super) eccentricity_m: f64,
+    pub(super) height_m: f64,
 }
 
 /// `bridge.sections[i]` of `kind = "beam"`.
@@ -140,6 +152,81 @@ pub(super) struct FileTrain {
     pub(super) vehicle: Option<toml::Table>,
     /// `"forward"` (+x, the default) or `"backward"` (−x).
     pub(super) direction: Option<String>,
+    /// 1-based index into `[[bridge.track]]`. Default 1.
+    pub(super) track: Option<usize>,
+    /// Its speed at the start (else `run.speed_kmh`).
+    pub(super) speed_kmh: Option<f64>,
+    /// Its first axle's position at t = 0 (the first train: else `run.start_x_m`).
+    pub(super) start_x_m: Option<f64>,
+    /// The time its first axle enters the deck, s.
+    pub(super) enter_time_s: Option<f64>,
+    /// Where its front meets the first train's front, m.
+    pub(super) meet_at_x_m: Option<f64>,
+    pub(super) braking: Option<FileBraking>,
+    pub(super) accelerating: Option<FileAccelerating>,
+}
+
+/// `train.braking`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FileBraking {
+    pub(super) from_x_m: f64,
+    pub(super) deceleration_m_s2: f64,
+    pub(super) to_speed_kmh: Option<f64>,
+}
+
+/// `train.accelerating`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FileAccelerating {
+    pub(super) from_x_m: f64,
+    pub(super) acceleration_m_s2: f64,
+    pub(super) to_speed_kmh: f64,
+}
+
+/// A table written once (`[x]`) or as an array of tables (`[[x]]`), serde's errors (and
+/// their lines) kept either way.
+#[derive(Debug)]
+pub(super) enum OneOrMany<T> {
+    One(T),
+    Many(Vec<T>),
+}
+
+impl<T> OneOrMany<T> {
+    /// The tables, and whether they were written as an array.
+    pub(super) fn items(&self) -> (Vec<&T>, bool) {
+        match self {
+            OneOrMany::One(t) => (vec![t], false),
+            OneOrMany::Many(v) => (v.iter().collect(), true),
+        }
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for OneOrMany<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for Visit<T> {
+            type Value = OneOrMany<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table or an array of tables")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Self::Value, A::Error> {
+                T::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(OneOrMany::One)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<Self::Value, A::Error> {
+                Vec::<T>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(OneOrMany::Many)
+            }
+        }
+        d.deserialize_any(Visit(std::marker::PhantomData))
+    }
 }
 
 #[derive(Debug, Deserialize, Default)]

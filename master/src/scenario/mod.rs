@@ -37,6 +37,10 @@ use tbi_track::{HuntingParams, IrregularitySpec};
 /// The embedded default scenario: the paper's Tsing Ma case.
 pub const DEFAULT_SCENARIO: &str = include_str!("../../scenarios/tsing-ma.toml");
 
+/// The embedded meeting case (`tbi run --meeting`): the default case with a second train on
+/// the other track, the two meeting at mid main span.
+pub const MEETING_SCENARIO: &str = include_str!("../../scenarios/tsing-ma-meeting.toml");
+
 /// A checked scenario.
 #[derive(Debug, Clone)]
 pub struct Scenario {
@@ -48,7 +52,13 @@ pub struct Scenario {
     pub damping_rule: Option<DampingRule>,
     /// `bridge.modes_rule`: which of the `bridge.modes` computed the run keeps.
     pub modes_rule: ModesRule,
+    /// The train, or the first of several (`[[train]]`): its speed and start are `run`'s.
     pub train: Train,
+    /// The trains after the first, on the deck at the same time.
+    pub more_trains: Vec<Train>,
+    /// `[[bridge.track]]`: each track's `(eccentricity, height)` on the deck, m (empty: one
+    /// track, at the bridge's `track_eccentricity_m` and `track_height_m`).
+    pub tracks: Vec<[f64; 2]>,
     /// Track irregularity (paths relative to `base_dir`).
     pub track: IrregularitySpec,
     pub probes: Vec<Probe>,
@@ -385,6 +395,21 @@ pub struct Train {
     /// The direction of travel: forward (+x, entering at the deck start, the default) or
     /// backward (−x, entering at the deck end).
     pub direction: tbi_dynamics::train::TravelDirection,
+    /// The track it runs on, 0-based (`track = 1`, the first, by default).
+    pub track: usize,
+    /// Its speed at the start, km/h as written and checked (None: `run.speed_kmh`).
+    pub speed: Option<(f64, Speed)>,
+    /// Its first axle's position at t = 0, m (the first train: `run.start_x_m` too).
+    pub start_x_m: Option<f64>,
+    /// The time its first axle enters the deck, s (≥ 0).
+    pub enter_time_s: Option<f64>,
+    /// Where its front meets the first train's front, m (trains after the first).
+    pub meet_at_x_m: Option<f64>,
+    /// Braking or accelerating once, from `from_x_m` (None: constant speed).
+    pub change: Option<tbi_dynamics::train::SpeedChange>,
+    /// Whether a braking train's final speed was given (without it, the braking may not stop
+    /// the train before its last axle has left the deck).
+    pub to_speed_given: bool,
 }
 
 impl Train {
@@ -431,10 +456,24 @@ pub fn load(
     solver: Option<&str>,
     speed_kmh: Option<f64>,
 ) -> Result<Scenario, String> {
-    let mut s = match path {
+    let s = match path {
         Some(p) => Scenario::from_path(p).map_err(|e| e.to_string())?,
         None => Scenario::default_case(),
     };
+    overridden(s, solver, speed_kmh)
+}
+
+/// [`load`] of the embedded meeting case ([`Scenario::meeting_case`]).
+pub fn load_meeting(solver: Option<&str>, speed_kmh: Option<f64>) -> Result<Scenario, String> {
+    overridden(Scenario::meeting_case(), solver, speed_kmh)
+}
+
+/// `s` with the command line's solver and speed.
+fn overridden(
+    mut s: Scenario,
+    solver: Option<&str>,
+    speed_kmh: Option<f64>,
+) -> Result<Scenario, String> {
     if let Some(sv) = solver {
         s.run.solver = SolverKind::parse(sv)
             .ok_or_else(|| format!("--solver {sv}: expected \"monolithic\" or \"cosim\""))?;
@@ -446,13 +485,51 @@ pub fn load(
     Ok(s)
 }
 
+/// `e` of train `k` (1-based) of several: its fields named `train[k].…`.
+fn train_numbered(e: InputError, k: usize) -> InputError {
+    match e {
+        InputError::Field {
+            file,
+            field,
+            value,
+            reason,
+        } => InputError::Field {
+            file,
+            field: match field.strip_prefix("train") {
+                Some(rest) => format!("train[{k}]{rest}"),
+                None => field,
+            },
+            value,
+            reason,
+        },
+        other => other,
+    }
+}
+
 impl Scenario {
+    /// All trains, the first first.
+    pub fn trains(&self) -> Vec<&Train> {
+        std::iter::once(&self.train)
+            .chain(&self.more_trains)
+            .collect()
+    }
+
     /// Read and check a scenario file.
     pub fn from_path(path: &Path) -> Result<Scenario, InputError> {
         let text = tbi_modes::input::read_text(path, tbi_modes::input::MAX_SCENARIO_BYTES)
             .map_err(|e| InputError::file(path, format!("cannot read scenario: {e}")))?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::from_toml(&text, &path.display().to_string(), &base)
+    }
+
+    /// The embedded meeting case ([`MEETING_SCENARIO`]).
+    pub fn meeting_case() -> Scenario {
+        Self::from_toml(
+            MEETING_SCENARIO,
+            "<embedded meeting scenario>",
+            Path::new("."),
+        )
+        .expect("the embedded meeting scenario is valid")
     }
 
     /// The embedded default scenario.
@@ -476,11 +553,69 @@ impl Scenario {
         })?;
         let c = Check { origin };
         c.name(&file.name)?;
-        let run = c.run(&file.run)?;
+        let (file_trains, many) = file.train.items();
+        let first = file_trains.first().ok_or_else(|| {
+            c.err(
+                "train",
+                "[]",
+                "give at least one train ([train] or [[train]])",
+            )
+        })?;
+        let mut run = c.run(&file.run, first.speed_kmh)?;
         let damping_rule = c.damping_rule(&file.bridge)?;
-        let modes_rule = c.modes_rule(&file.bridge, &file.train)?;
+        let modes_rule = c.modes_rule(&file.bridge, first)?;
         let bridge = c.bridge(&file.bridge, damping_rule.as_ref(), base_dir)?;
-        let train = c.train(&file.train, base_dir)?;
+        let tracks = c.tracks(&file.bridge)?;
+        let mut trains = Vec::new();
+        for (k, t) in file_trains.iter().enumerate() {
+            let named = |e| if many { train_numbered(e, k + 1) } else { e };
+            let mut train = c.train(t, base_dir).map_err(named)?;
+            let n_tracks = tracks.len().max(1);
+            if train.track >= n_tracks {
+                return Err(named(c.err(
+                    "train.track",
+                    train.track + 1,
+                    &format!(
+                        "there {} ([[bridge.track]])",
+                        match n_tracks {
+                            1 => "is 1 track".to_string(),
+                            n => format!("are {n} tracks"),
+                        }
+                    ),
+                )));
+            }
+            if k == 0 {
+                if train.meet_at_x_m.is_some() {
+                    return Err(named(c.err(
+                        "train.meet_at_x_m",
+                        num(train.meet_at_x_m.unwrap_or_default()),
+                        "the first train is the one the others meet; give it to a later train",
+                    )));
+                }
+                // the first train's speed and start are the run's
+                train.speed = None;
+                match (train.start_x_m.take(), run.start_x_m) {
+                    (Some(_), Some(_)) => {
+                        return Err(named(c.err(
+                            "train.start_x_m",
+                            "(set)",
+                            "give the first train's start in run.start_x_m or in train.start_x_m, not both",
+                        )))
+                    }
+                    (Some(x), None) => run.start_x_m = Some(x),
+                    _ => {}
+                }
+                if run.start_x_m.is_some() && train.enter_time_s.is_some() {
+                    return Err(named(c.err(
+                        "train.enter_time_s",
+                        "(set)",
+                        "give one of run.start_x_m and train.enter_time_s, not both",
+                    )));
+                }
+            }
+            trains.push(train);
+        }
+        let train = trains.remove(0);
         c.probes(&file.probes)?;
         file.coupling
             .validate()
@@ -496,6 +631,8 @@ impl Scenario {
             damping_rule,
             modes_rule,
             train,
+            more_trains: trains,
+            tracks,
             track: file.track.irregularity,
             probes: file.probes,
             coupling: file.coupling,

@@ -3,8 +3,9 @@
 use super::check::Check;
 use super::file::{inline_table, FileTrain};
 use super::{limits, Train};
+use crate::text::num;
 use std::path::Path;
-use tbi_dynamics::train::TrainSpec;
+use tbi_dynamics::train::{Speed, SpeedChange, TrainSpec};
 use tbi_dynamics::vehicle::coach::CoachParams;
 use tbi_dynamics::vehicle::simple::{AxleVehicle, MovingForceAxle, SprungMassAxle};
 use tbi_dynamics::InputError;
@@ -52,11 +53,50 @@ impl Check<'_> {
                 ))
             }
         };
+        let (change, to_speed_given) = self.speed_change(t)?;
+        let speed = (t.speed_kmh)
+            .map(|v| {
+                Speed::from_m_s(v / 3.6)
+                    .map(|s| (v, s))
+                    .map_err(|e| self.err("train.speed_kmh", num(v), &e.to_string()))
+            })
+            .transpose()?;
+        if let Some(x) = t.start_x_m {
+            self.finite("train.start_x_m", x)?;
+        }
+        if let Some(x) = t.meet_at_x_m {
+            self.finite("train.meet_at_x_m", x)?;
+        }
+        if let Some(te) = t.enter_time_s {
+            self.within("train.enter_time_s", te, (0.0, 1e6), "s")?;
+        }
+        let placed = [
+            ("start_x_m", t.start_x_m.is_some()),
+            ("enter_time_s", t.enter_time_s.is_some()),
+            ("meet_at_x_m", t.meet_at_x_m.is_some()),
+        ];
+        if let [(a, _), (b, _), ..] = placed.iter().filter(|p| p.1).collect::<Vec<_>>()[..] {
+            return Err(self.err(
+                &format!("train.{b}"),
+                "(set)",
+                &format!("give one of start_x_m, enter_time_s and meet_at_x_m, not {a} and {b}"),
+            ));
+        }
+        if t.track == Some(0) {
+            return Err(self.err("train.track", 0, "tracks are numbered from 1"));
+        }
         let mut train = Train {
             spec,
             hunting,
             axle_vehicle,
             direction,
+            track: t.track.unwrap_or(1) - 1,
+            speed,
+            start_x_m: t.start_x_m,
+            enter_time_s: t.enter_time_s,
+            meet_at_x_m: t.meet_at_x_m,
+            change,
+            to_speed_given,
         };
         if train.axle_vehicle.is_some() {
             let TrainSpec::MovingForce(axles) = &train.spec else {
@@ -71,6 +111,61 @@ impl Check<'_> {
             })?;
         }
         Ok(train)
+    }
+
+    /// `train.braking` or `train.accelerating` as a speed change, and whether its final speed
+    /// was given.
+    fn speed_change(&self, t: &FileTrain) -> Result<(Option<SpeedChange>, bool), InputError> {
+        match (&t.braking, &t.accelerating) {
+            (Some(_), Some(_)) => Err(self.err(
+                "train.accelerating",
+                "(set)",
+                "give braking or accelerating, not both",
+            )),
+            (Some(b), None) => {
+                self.finite("train.braking.from_x_m", b.from_x_m)?;
+                let a = self.within(
+                    "train.braking.deceleration_m_s2",
+                    b.deceleration_m_s2,
+                    (1e-3, 10.0),
+                    "m/s²",
+                )?;
+                let to = match b.to_speed_kmh {
+                    Some(v) => self.to_speed("train.braking.to_speed_kmh", v)?,
+                    None => 0.0,
+                };
+                let change = SpeedChange {
+                    from_x_m: b.from_x_m,
+                    rate_m_s2: -a,
+                    to_speed_m_s: to,
+                };
+                Ok((Some(change), b.to_speed_kmh.is_some()))
+            }
+            (None, Some(c)) => {
+                self.finite("train.accelerating.from_x_m", c.from_x_m)?;
+                let a = self.within(
+                    "train.accelerating.acceleration_m_s2",
+                    c.acceleration_m_s2,
+                    (1e-3, 10.0),
+                    "m/s²",
+                )?;
+                let to = self.to_speed("train.accelerating.to_speed_kmh", c.to_speed_kmh)?;
+                let change = SpeedChange {
+                    from_x_m: c.from_x_m,
+                    rate_m_s2: a,
+                    to_speed_m_s: to,
+                };
+                Ok((Some(change), true))
+            }
+            (None, None) => Ok((None, true)),
+        }
+    }
+
+    /// A final speed `v` km/h as m/s: 0 … the highest speed (whether it lies beyond the
+    /// starting speed is checked with the trains, where that is known).
+    fn to_speed(&self, field: &str, v: f64) -> Result<f64, InputError> {
+        self.within(field, v, (0.0, Speed::MAX_M_S * 3.6), "km/h")?;
+        Ok(v / 3.6)
     }
 
     /// `train.vehicle`: the sprung mass under every axle of a `moving_force` or `hslm_a` train.

@@ -35,40 +35,50 @@ pub fn run_cosim<W: std::io::Write>(
     let mut sys = tbi_ssp::wire(&open, &[], 0.0, t_end)?.system;
     let mut scheme = build_scheme(cfg)?;
     scheme.initialize(&mut sys)?;
-    let (bl, tl) = (&exported.bridge_layout, &exported.train_layout);
-    let nv = tl.n_vehicles();
+    let bl = &exported.bridge_layout;
+    let trains: Vec<&fmu_train::layout::TrainLayout> = std::iter::once(&exported.train_layout)
+        .chain(exported.more_trains.iter().map(|t| &t.layout))
+        .collect();
     let probe_vrs = bl.probe_out.vrs(&[0, 1, 2, 3, 4]);
-    let force_vrs = tl.wheel_out.vrs(&[wheel::F_Y, wheel::M_X, wheel::F_Z]);
-    let veh_vrs = tl.vehicle_out.vrs(&[0, 1]);
+    // per train: its participant, its wheel forces' and car bodies' value references
+    let reads: Vec<(usize, Vec<u32>, Vec<u32>)> = (trains.iter().enumerate())
+        .map(|(k, tl)| {
+            (
+                crate::fmus::ssd::Side::Train(k).index(trains.len()),
+                tl.wheel_out.vrs(&[wheel::F_Y, wheel::M_X, wheel::F_Z]),
+                tl.vehicle_out.vrs(&[0, 1]),
+            )
+        })
+        .collect();
     let layout = rec.layout.clone();
     // One sample and its read buffers, refilled at every step (no allocation per step).
-    let (mut pv, mut fv, mut vv) = (
-        vec![0.0; probe_vrs.len()],
-        vec![0.0; force_vrs.len()],
-        vec![0.0; veh_vrs.len()],
-    );
+    let (mut pv, mut fv, mut vv) = (vec![0.0; probe_vrs.len()], Vec::new(), Vec::new());
     let mut sample = Sample::default();
     let mut sample_at =
         |sys: &mut System, t: f64, sample: &mut Sample| -> Result<(), CouplingError> {
-            use crate::fmus::ssd::Side;
-            sys.participants[Side::Bridge as usize].get_real(&probe_vrs, &mut pv)?;
-            sys.participants[Side::Train as usize].get_real(&force_vrs, &mut fv)?;
-            sys.participants[Side::Train as usize].get_real(&veh_vrs, &mut vv)?;
+            sys.participants[0].get_real(&probe_vrs, &mut pv)?;
             sample.t = t;
             sample.probes.clear();
             sample
                 .probes
                 .extend(pv.chunks(bl.probe_out.width()).map(probe_values));
             sample.vehicles.clear();
-            sample.vehicles.extend((0..nv).map(|i| {
-                let has = layout.vehicles[i];
-                [has[0].then_some(vv[2 * i]), has[1].then_some(vv[2 * i + 1])]
-            }));
             sample.forces.clear();
-            sample.forces.extend(
-                fv.chunks(3)
-                    .map(|c| nalgebra::Vector3::new(c[0], c[1], c[2])),
-            );
+            for (p, force_vrs, veh_vrs) in &reads {
+                fv.resize(force_vrs.len(), 0.0);
+                vv.resize(veh_vrs.len(), 0.0);
+                sys.participants[*p].get_real(force_vrs, &mut fv)?;
+                sys.participants[*p].get_real(veh_vrs, &mut vv)?;
+                let first = sample.vehicles.len();
+                sample.vehicles.extend((0..vv.len() / 2).map(|i| {
+                    let has = layout.vehicles[first + i];
+                    [has[0].then_some(vv[2 * i]), has[1].then_some(vv[2 * i + 1])]
+                }));
+                sample.forces.extend(
+                    fv.chunks(3)
+                        .map(|c| nalgebra::Vector3::new(c[0], c[1], c[2])),
+                );
+            }
             Ok(())
         };
     sample_at(&mut sys, 0.0, &mut sample)?;

@@ -39,6 +39,12 @@ pub fn layout(model: &Model) -> Layout {
                 )
             })
             .collect(),
+        trains: match model.trains.len() {
+            1 => Vec::new(),
+            _ => (model.trains.iter())
+                .map(|t| [t.spec.n_vehicles(), t.spec.n_wheelsets()])
+                .collect(),
+        },
     }
 }
 

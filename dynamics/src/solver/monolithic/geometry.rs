@@ -67,7 +67,7 @@ impl Geometry {
     pub(super) fn positions(&mut self, m: &Placement<'_>, t: f64) {
         self.t = t;
         for (x, ws) in self.x.iter_mut().zip(m.wheelsets) {
-            *x = m.train.x_at(ws.offset_m, t);
+            *x = m.train.x_of(ws, t);
         }
     }
 
@@ -80,8 +80,9 @@ impl Geometry {
             } else {
                 // the track's data a step on is read next step
                 let ws = &m.wheelsets[w];
-                m.track.prefetch(m.train.x_at(ws.offset_m, t + m.h));
-                rail_prescribed(m.track, m.train, w, self.x[w], t)
+                let run = &m.train.runs[ws.run];
+                m.track.prefetch(run.x_at(ws.offset_m, t + m.h));
+                rail_prescribed(m.track, run, ws.in_run, self.x[w], t)
             };
         }
     }
@@ -96,7 +97,10 @@ impl Geometry {
             let mut rows: [&mut [f64]; SHAPE_LANES] = Default::default();
             let mut at = [(0, 0); SHAPE_LANES];
             let mut xs = [0.0; SHAPE_LANES];
-            for (((r, a), x), &w) in rows.iter_mut().zip(&mut at).zip(&mut xs).zip(chunk) {
+            let mut tracks = [0; SHAPE_LANES];
+            for ((((r, a), x), tr), &w) in
+                (rows.iter_mut().zip(&mut at).zip(&mut xs).zip(&mut tracks)).zip(chunk)
+            {
                 let tail_t = std::mem::take(&mut psi_t)
                     .split_at_mut((w - base) * 3 * nb)
                     .1;
@@ -104,11 +108,13 @@ impl Geometry {
                 (*r, psi_t, base) = (this_t, tail_t, w + 1);
                 *a = m.lane_at[w];
                 *x = self.x[w];
+                *tr = m.train.runs[m.wheelsets[w].run].track;
             }
             let mut on = [false; SHAPE_LANES];
             let k = chunk.len();
             m.bridge.rail_shapes_lanes(
                 &xs[..k],
+                &tracks[..k],
                 &mut self.blocks,
                 &at[..k],
                 &mut rows[..k],

@@ -204,7 +204,7 @@ impl Monolithic {
             .map(|(i, tv)| {
                 let f = s.first_ws[i];
                 let u = body_turbulence(&s.buffeting, &s.train, i, 0.0);
-                let wind = s.train.wind_force(i, 0.0, u);
+                let wind = s.train.body_force(i, 0.0, u);
                 VehicleState::initial_loaded(
                     &tv.model,
                     &s.rail[f..f + tv.model.wheelsets.len()],
@@ -380,7 +380,7 @@ impl Monolithic {
 
     /// The ideal track without hunting: the prescribed motion is zero everywhere.
     fn flat(&self) -> bool {
-        self.track.is_flat() && !self.train.hunting.is_active()
+        self.track.is_flat() && !self.train.hunts()
     }
 
     /// Whether the worker of [`Monolithic::run_ahead`] stopped on its own since the last call:
@@ -606,6 +606,11 @@ impl Monolithic {
                 self.train.add_wind_force(i, t1, u, 1.0, f);
                 WindBody::add_responses(&cache.wind, f.as_slice(), y.as_mut_slice());
             }
+            // the inertia of a changing speed, g a
+            let a = self.train.acceleration_of(i, t1);
+            if a != 0.0 && !cache.inertia.is_empty() {
+                crate::simd::axpy(y.as_mut_slice(), a, &cache.inertia);
+            }
         }
         let rails = &mut w.rails;
         rails.clear();
@@ -700,10 +705,12 @@ impl Monolithic {
                 }
             }
             let changed = self.vehicles[i].newmark_update(&nm, v1);
-            // at rest: the same inputs (no deck, no prescribed motion, no wind) next step
+            // at rest: the same inputs (no deck, no prescribed motion, no wind, no change
+            // of speed) next step
             w.resting[i] = !changed
                 && w.flat_before
                 && self.train.wind.is_none()
+                && !self.train.changes_speed(i)
                 && (f0..f0 + nwi).all(|ws| !self.geo.on[ws]);
         }
     }

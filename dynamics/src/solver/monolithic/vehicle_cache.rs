@@ -18,6 +18,10 @@ pub(super) struct VehicleCache {
     /// vehicles without DOFs or body): the wind's share of `K̂⁻¹ b_v` is `Σ_d F_d K̂⁻¹ e_d`,
     /// five products of n values instead of a solve with the factor.
     pub(super) wind: Vec<(usize, Vec<f64>)>,
+    /// `K̂⁻¹ g` of the vehicle's inertia loads per unit longitudinal acceleration
+    /// ([`LinearVehicle::inertia`]; empty without them): their share of `K̂⁻¹ b_v` is `a`
+    /// times this.
+    pub(super) inertia: Vec<f64>,
     /// `[C_vw,0 … C_vw,l …]ᵀ` (3n_w × n, column after column; the structural zeros exact):
     /// `C_vw,lᵀ v_c` of every wheelset in the bridge's right-hand side as one product.
     pub(super) cvw_t: Vec<f64>,
@@ -70,6 +74,7 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
     if n == 0 {
         return VehicleCache {
             wind: Vec::new(),
+            inertia: Vec::new(),
             cvw_t,
             s_dense: structural(&s),
             h_neg_t: Vec::new(),
@@ -114,8 +119,17 @@ fn vehicle_cache(model: &LinearVehicle, nm: &Newmark) -> VehicleCache {
         let x = chol.solve(&DVector::from_column_slice(e));
         e.copy_from_slice(x.as_slice());
     });
+    let inertia = match model.inertia.is_empty() {
+        true => Vec::new(),
+        false => {
+            let mut g = DVector::zeros(n);
+            model.add_inertia(1.0, g.as_mut_slice());
+            chol.solve(&g).as_slice().to_vec()
+        }
+    };
     VehicleCache {
         wind,
+        inertia,
         cvw_t,
         s_dense: structural(&s),
         h_neg_t,

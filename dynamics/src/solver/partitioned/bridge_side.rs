@@ -48,6 +48,8 @@ impl Clone for ModalState {
 pub struct BridgeSide {
     pub bridge: Arc<ModalBridge>,
     pub track: Arc<dyn RailProfile>,
+    /// The track each wheelset slot runs on (0 the first; slots beyond it: 0).
+    pub tracks: Arc<Vec<usize>>,
     pub state: ModalState,
     omega: Arc<Vec<f64>>,
     zeta: Arc<Vec<f64>>,
@@ -73,6 +75,7 @@ impl Clone for BridgeSide {
         BridgeSide {
             bridge: self.bridge.clone(),
             track: self.track.clone(),
+            tracks: self.tracks.clone(),
             state: self.state.clone(),
             omega: self.omega.clone(),
             zeta: self.zeta.clone(),
@@ -89,6 +92,7 @@ impl Clone for BridgeSide {
     fn clone_from(&mut self, source: &Self) {
         share(&mut self.bridge, &source.bridge);
         share(&mut self.track, &source.track);
+        share(&mut self.tracks, &source.tracks);
         self.state.clone_from(&source.state);
         share(&mut self.omega, &source.omega);
         share(&mut self.zeta, &source.zeta);
@@ -126,7 +130,14 @@ impl BridgeSide {
             nodes: BasisScratch::default(),
             bridge,
             track,
+            tracks: Arc::new(Vec::new()),
         }
+    }
+
+    /// The track of wheelset slot `w`.
+    #[inline]
+    fn track_of(&self, w: usize) -> usize {
+        self.tracks.get(w).copied().unwrap_or(0)
     }
 
     /// Take the deck's turbulence from [`Self::deck_wind`] (set before each step) instead of
@@ -178,7 +189,8 @@ impl BridgeSide {
             on_deck.clear();
             for (w, wi) in inputs.iter().enumerate() {
                 if let Some(at) = c.sines_at(w, wi.x) {
-                    on_deck.push((at, self.bridge.deck_force_of(wi.f)));
+                    let k = self.tracks.get(w).copied().unwrap_or(0);
+                    on_deck.push((at, self.bridge.deck_force_of_on(k, wi.f)));
                 }
             }
             sine_forces(force, &c.sines, on_deck);
@@ -194,7 +206,8 @@ impl BridgeSide {
             ns.begin(n_nodes);
             for (w, wi) in inputs.iter().enumerate() {
                 if let (Some(st), _) = c.stencil(w, wi.x) {
-                    let g = self.bridge.deck_force_of(wi.f);
+                    let k = self.tracks.get(w).copied().unwrap_or(0);
+                    let g = self.bridge.deck_force_of_on(k, wi.f);
                     for j in 0..st.k {
                         let i = st.start + j;
                         ns.touch(i);
@@ -326,8 +339,9 @@ impl BridgeSide {
                 if sines.is_some() {
                     let acc = deck.next().expect("a deck motion per wheelset on the deck");
                     for (d, rd) in r.iter_mut().enumerate() {
-                        *rd +=
-                            Vector3::from(self.bridge.rail_of([acc[0][d], acc[1][d], acc[2][d]]));
+                        let k = self.tracks.get(slot_of(w)).copied().unwrap_or(0);
+                        let acc = [acc[0][d], acc[1][d], acc[2][d]];
+                        *rd += Vector3::from(self.bridge.rail_of_on(k, acc));
                     }
                 }
                 f(slot_of(w), &r);
@@ -350,7 +364,8 @@ impl BridgeSide {
             let mut r = rail_motion(irregularity, wi.vx);
             if let Some(st) = st {
                 for (rd, d) in r.iter_mut().zip(ns.deck_motion(st)) {
-                    *rd += Vector3::from(self.bridge.rail_of(d));
+                    let k = self.tracks.get(slot_of(w)).copied().unwrap_or(0);
+                    *rd += Vector3::from(self.bridge.rail_of_on(k, d));
                 }
             }
             f(slot_of(w), &r);
@@ -389,9 +404,10 @@ impl BridgeSide {
         let (mut psi, mut dpsi) = (vec![[0.0; 3]; nb], vec![[0.0; 3]; nb]);
         let mut dqdd = vec![0.0; nb];
         if initializing {
-            for (wi, si) in inputs.iter().zip(seeds) {
-                if bridge.rail_shapes(wi.x, &mut psi) {
-                    bridge.rail_shape_slopes(wi.x, &mut dpsi);
+            for (w, (wi, si)) in inputs.iter().zip(seeds).enumerate() {
+                let k = self.track_of(w);
+                if bridge.rail_shapes_on(k, wi.x, &mut psi) {
+                    bridge.rail_shape_slopes_on(k, wi.x, &mut dpsi);
                     for n in 0..nb {
                         for k in 0..3 {
                             dqdd[n] += psi[n][k] * si.f[k] + dpsi[n][k] * wi.f[k] * si.x;
@@ -410,9 +426,10 @@ impl BridgeSide {
                 self.track.third_derivative(wi.x),
                 wi.vx,
             );
-            let on = bridge.rail_shapes(wi.x, &mut psi);
+            let k = self.track_of(w);
+            let on = bridge.rail_shapes_on(k, wi.x, &mut psi);
             if on {
-                bridge.rail_shape_slopes(wi.x, &mut dpsi);
+                bridge.rail_shape_slopes_on(k, wi.x, &mut dpsi);
                 for n in 0..nb {
                     for k in 0..3 {
                         by_x[0][k] += dpsi[n][k] * s.q[n];

@@ -22,6 +22,10 @@ struct Factor {
     /// without one): the wind's share of the new acceleration, `a0 K̂⁻¹ F₁ = Σ_d (a0 F₁)_d
     /// K̂⁻¹ e_d`, five products of n values instead of a solve with the factor.
     wind: Vec<(usize, Vec<f64>)>,
+    /// `K̂⁻¹ g` of the inertia loads per unit longitudinal acceleration
+    /// ([`LinearVehicle::inertia`]; empty without them): their share of the new
+    /// acceleration is `a0 a` times this.
+    inertia: Vec<f64>,
     /// `G_l = −a0 K̂⁻¹ [K_vw,l  C_vw,l]` of each wheelset `l`, `n × 6` column-major, wheelset
     /// after wheelset: the new acceleration is `v̈₁ = b + Σ_l G_l (u_l, u̇_l)` with `b` from
     /// the state at the start of the step ([`StepBase`]).
@@ -71,9 +75,16 @@ impl Factor {
             chol.solve_mut(col);
         }
         let wind = WindBody::unit_responses(model, |e| chol.solve_mut(e));
+        let mut inertia = Vec::new();
+        if !model.inertia.is_empty() {
+            inertia = vec![0.0; model.ndof()];
+            model.add_inertia(1.0, &mut inertia);
+            chol.solve_mut(&mut inertia);
+        }
         Factor {
             h,
             wind,
+            inertia,
             gain,
             base,
         }
@@ -204,7 +215,12 @@ impl HuntingCache {
         let key = (t.to_bits(), Arc::as_ptr(train) as usize);
         if self.key != Some(key) || self.values.len() != n {
             self.values.clear();
-            self.values.extend((0..n).map(|w| train.hunting_at(w, t)));
+            let ws = train.wheelsets();
+            (self.values).extend(
+                ws[..n]
+                    .iter()
+                    .map(|w| train.runs[w.run].hunting_at(w.in_run, t)),
+            );
             self.key = Some(key);
         }
         &self.values
@@ -266,6 +282,7 @@ impl TrainSide {
                 Factor {
                     h: f64::NAN,
                     wind: Vec::new(),
+                    inertia: Vec::new(),
                     gain: Vec::new(),
                     base: Vec::new(),
                 };
@@ -298,7 +315,7 @@ impl TrainSide {
 
     /// Position of wheelset `w` at time `t`, m.
     pub fn x(&self, w: usize, t: f64) -> f64 {
-        self.train.x_at(self.wheelsets[w].offset_m, t)
+        self.train.x_of(&self.wheelsets[w], t)
     }
 
     /// Static equilibrium at time `t` on the given rail motion (deck plus irregularity).
@@ -311,7 +328,7 @@ impl TrainSide {
         let mut first = 0;
         for (i, tv) in self.train.vehicles.iter().enumerate() {
             let nw = tv.model.wheelsets.len();
-            let f = self.train.wind_force(i, t, self.body_wind[i]);
+            let f = self.train.body_force(i, t, self.body_wind[i]);
             self.states[i] =
                 VehicleState::initial_loaded(&tv.model, &self.rails[first..first + nw], f.as_ref());
             first += nw;
@@ -368,6 +385,11 @@ impl TrainSide {
                     self.train
                         .add_wind_force(i, t1, self.body_wind[i], nm.a0, w);
                     WindBody::add_responses(&factor.wind, w.as_slice(), a);
+                }
+                // the inertia of a changing speed, a0 K̂⁻¹ g a
+                let acc = self.train.acceleration_of(i, t1);
+                if acc != 0.0 && !factor.inertia.is_empty() {
+                    crate::simd::axpy(a, nm.a0 * acc, &factor.inertia);
                 }
                 let (v, vd, a) = (s.v.as_mut_slice(), s.vd.as_mut_slice(), s.vdd.as_slice());
                 for (((v, vd), a), (vp, vdp)) in

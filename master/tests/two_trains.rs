@@ -1,0 +1,235 @@
+//! Several trains on a double-track deck (`[[train]]`, `[[bridge.track]]`).
+//!
+//! * **Superposition.** On a linear bridge under moving forces the deck's response is linear
+//!   in the loads: two trains running in opposite directions on the two tracks (opposite
+//!   eccentricities) give deck histories equal to the sum of each train's run alone, to 1e-9
+//!   of each column's largest value, in the monolithic solver and through the FMUs (one train
+//!   FMU per train).
+//! * **Co-simulation ≡ monolithic** with two train FMUs of coaches (one running backward,
+//!   with hunting, on an irregular track) to 1e-8 per column.
+//! * Refusals, each naming the field: a track that does not exist, two trains on one track
+//!   running towards each other or overlapping at the start, `[[bridge.track]]` beside
+//!   `track_eccentricity_m`, two ways of placing one train.
+
+mod cli_support;
+
+use cli_support::{run, span_40m, Scenario, TIGHT_COUPLING};
+use tbi_tests::{assert_same_table, require_fmu_libraries, scratch, Table};
+
+/// Two tracks at ±2.05 m (on [`span_40m`]), and the probes.
+const TRACKS: &str = r#"[[bridge.track]]
+eccentricity_m = 2.05
+height_m = 1.25
+[[bridge.track]]
+eccentricity_m = -2.05
+height_m = 1.25
+[[probe]]
+name = "p10"
+x_m = 10.0
+[[probe]]
+name = "p20"
+x_m = 20.0
+[[probe]]
+name = "p30"
+x_m = 30.0
+"#;
+
+/// Train 1: four axles forward at 200 km/h on track 1 from the deck start; train 2: two
+/// lighter axles backward at 150 km/h on track 2, its first axle 12 m beyond the deck end.
+const FORCES: [&str; 2] = [
+    r#"
+[[train]]
+kind = "moving_force"
+axles = [{ offset_m = 0.0, load_n = 1.5e5 }, { offset_m = 2.5, load_n = 1.5e5 }, { offset_m = 17.5, load_n = 1.5e5 }, { offset_m = 20.0, load_n = 1.5e5 }]
+track = 1
+speed_kmh = 200.0
+start_x_m = 0.0
+"#,
+    r#"
+[[train]]
+kind = "moving_force"
+axles = [{ offset_m = 0.0, load_n = 1.2e5 }, { offset_m = 3.0, load_n = 1.2e5 }]
+track = 2
+direction = "backward"
+speed_kmh = 150.0
+start_x_m = 52.0
+"#,
+];
+
+/// A scenario of `trains` on the bridge.
+fn scenario(trains: &[&str]) -> Scenario {
+    let head = "name = \"two\"\n[run]\ndt_s = 0.002\nfree_vibration_s = 0.3\n";
+    let bridge = span_40m(TRACKS);
+    Scenario::parse(&format!(
+        "{head}{bridge}{TIGHT_COUPLING}{}",
+        trains.concat()
+    ))
+}
+
+/// The deck's columns of `t` (the probes') that respond to vertical loads (moving forces
+/// load no lateral mode).
+fn deck_columns(t: &Table) -> Vec<String> {
+    (t.columns.iter())
+        .filter(|c| c.starts_with('p') && !c.contains("lateral"))
+        .cloned()
+        .collect()
+}
+
+/// `both − (a + b)` over the rows all three have, relative to each column's largest |value|
+/// in `both`: the worst column and its figure.
+fn superposition_defect(both: &Table, a: &Table, b: &Table) -> (String, f64) {
+    let n = both.rows.len().min(a.rows.len()).min(b.rows.len());
+    assert!(n > 300, "{n} rows in common");
+    let mut worst = (String::new(), 0.0);
+    for name in deck_columns(both) {
+        let (cb, ca, cc) = (both.column(&name), a.column(&name), b.column(&name));
+        let scale = cb[..n].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!(scale > 0.0, "{name} is all zero");
+        let d = (0..n)
+            .map(|i| (cb[i] - ca[i] - cc[i]).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        if d > worst.1 {
+            worst = (name, d);
+        }
+    }
+    worst
+}
+
+fn superposition(solver: &str) {
+    let dir = scratch(&format!("two-trains-superposition-{solver}"));
+    let mut out = Vec::new();
+    for (name, trains) in [
+        ("both", &FORCES[..]),
+        ("first", &FORCES[..1]),
+        ("second", &FORCES[1..]),
+    ] {
+        let s = scenario(trains).write(&dir, &format!("{name}.toml"));
+        let r = run(&s, solver, &dir.join(name), &[]);
+        r.expect_ok(name);
+        out.push(r.history());
+    }
+    let (name, d) = superposition_defect(&out[0], &out[1], &out[2]);
+    assert!(d <= 1e-9, "{solver}: {name} differs from the sum by {d:e}");
+    // the trains twist the deck, each its own way
+    for (t, name) in out.iter().zip(["both", "first", "second"]) {
+        let torsion = t.column("p20.torsion_rad");
+        assert!(torsion.iter().any(|v| v.abs() > 1e-7), "{name}: no torsion");
+    }
+}
+
+#[test]
+fn two_trains_superpose_in_the_monolithic_solver() {
+    superposition("monolithic");
+}
+
+#[test]
+fn two_trains_superpose_through_two_train_fmus() {
+    require_fmu_libraries();
+    superposition("cosim");
+}
+
+#[test]
+fn two_train_fmus_of_coaches_equal_the_monolithic_solution() {
+    require_fmu_libraries();
+    let dir = scratch("two-trains-coaches");
+    let trains = r#"
+[[train]]
+kind = "coach_27dof"
+preset = "xia2000"
+vehicles = 2
+track = 1
+speed_kmh = 200.0
+[[train]]
+kind = "coach_27dof"
+preset = "xia2000"
+vehicles = 1
+track = 2
+direction = "backward"
+speed_kmh = 150.0
+meet_at_x_m = 25.0
+hunting = { amplitude_m = 0.003, wavelength_m = 15.0, seed = 3 }
+[track]
+irregularity = { spectrum = "fra-5", seed = 7 }
+"#;
+    let s = scenario(&[trains]).write(&dir, "coaches.toml");
+    let mono = run(&s, "monolithic", &dir.join("mono"), &[]);
+    mono.expect_ok("monolithic");
+    let co = run(&s, "cosim", &dir.join("co"), &[]);
+    co.expect_ok("cosim");
+    assert!(
+        dir.join("co/fmus/train2.fmu").is_file(),
+        "one FMU per train"
+    );
+    let (m, c) = (mono.history(), co.history());
+    assert!(m
+        .columns
+        .iter()
+        .any(|c| c == "train2.veh1.lateral_acceleration_m_s2"));
+    assert_same_table(
+        &m,
+        &c,
+        1e-8,
+        "two trains of coaches, cosim against monolithic",
+    );
+}
+
+/// `tbi run` of the scenario with these trains fails naming `field` and saying `why`.
+fn refused(label: &str, trains: &str, field: &str, why: &str) {
+    let dir = scratch(&format!("two-trains-refused-{label}"));
+    let s = scenario(&[trains]).write(&dir, "bad.toml");
+    let r = run(&s, "monolithic", &dir.join("out"), &[]);
+    assert_eq!(r.status.code(), Some(1), "{label}: {}", r.stderr);
+    assert!(
+        r.stderr.contains(field) && r.stderr.contains(why),
+        "{label}: {}",
+        r.stderr
+    );
+}
+
+#[test]
+fn impossible_trains_are_refused_naming_the_field() {
+    let second = FORCES[1];
+    refused(
+        "no-such-track",
+        &format!("{}{}", FORCES[0], second.replace("track = 2", "track = 3")),
+        "train[2].track",
+        "there are 2 tracks",
+    );
+    refused(
+        "towards-each-other",
+        &format!("{}{}", FORCES[0], second.replace("track = 2", "track = 1")),
+        "train[2].track",
+        "towards each other",
+    );
+    let follower = FORCES[0].replace("start_x_m = 0.0", "start_x_m = -10.0");
+    refused(
+        "overlapping",
+        &format!("{}{follower}", FORCES[0]),
+        "train[2].track",
+        "overlap on this track at t = 0",
+    );
+    refused(
+        "placed-twice",
+        &format!(
+            "{}{}",
+            FORCES[0],
+            second.replace("start_x_m = 52.0", "start_x_m = 52.0\nenter_time_s = 1.0")
+        ),
+        "train[2].enter_time_s",
+        "not start_x_m and enter_time_s",
+    );
+    refused(
+        "track-zero",
+        &FORCES[0].replace("track = 1", "track = 0"),
+        "train[1].track",
+        "numbered from 1",
+    );
+    let dir = scratch("two-trains-refused-both-track-forms");
+    let s = scenario(&[FORCES[0]])
+        .set("bridge", "track_eccentricity_m", 1.0)
+        .write(&dir, "bad.toml");
+    let r = run(&s, "monolithic", &dir.join("out"), &[]);
+    assert_eq!(r.status.code(), Some(1), "{}", r.stderr);
+    assert!(r.stderr.contains("bridge.track"), "{}", r.stderr);
+}
