@@ -25,17 +25,33 @@ _SAFETY_KEYS = (
 
 
 def _assign(scenario, key, value):
-    """Set the dotted ``key`` (``"run.speed_kmh"``) of a scenario dict to ``value``."""
+    """Set the dotted ``key`` (``"run.speed_kmh"``) of a scenario dict to ``value``; a part
+    ``name[k]`` is the k-th (1-based) table of an array of tables (``"train[2].speed_kmh"``,
+    as the scenario's messages name it)."""
     from . import ScenarioError
 
     parts = key.split(".")
     table = scenario
     for i, part in enumerate(parts[:-1]):
-        nxt = table.get(part)
-        if nxt is None:
-            nxt = table[part] = {}
+        where = ".".join(parts[: i + 1])
+        name, k = part, None
+        if part.endswith("]") and "[" in part:
+            name, index = part[:-1].split("[", 1)
+            if not index.isdigit() or int(index) < 1:
+                raise ScenarioError(f"vary: {key}: {where}: the index must be 1, 2, …")
+            k = int(index)
+        nxt = table.get(name)
+        if nxt is None and k is None:
+            nxt = table[name] = {}
+        if k is not None:
+            if isinstance(nxt, dict) and k == 1:
+                nxt = [nxt]
+                table[name] = nxt
+            if not isinstance(nxt, list) or k > len(nxt):
+                n = len(nxt) if isinstance(nxt, list) else 0
+                raise ScenarioError(f"vary: {key}: {where}: there are {n} tables [[{name}]]")
+            nxt = nxt[k - 1]
         if not isinstance(nxt, dict):
-            where = ".".join(parts[: i + 1])
             raise ScenarioError(f"vary: {key}: {where} = {nxt!r} is not a table")
         table = nxt
     table[parts[-1]] = value
@@ -55,6 +71,11 @@ def _row(values, summary):
         row[f"vehicles.{k}"] = summary.get("vehicles", {}).get(k)
     for k in _SAFETY_KEYS:
         row[f"safety.{k}"] = summary.get("safety", {}).get(k)
+    for t in summary.get("trains", []):
+        k = t.get("train")
+        for group in ("car_bodies", "safety"):
+            for key, v in (t.get(group) or {}).items():
+                row[f"train{k}.{key}"] = v
     coupling = summary.get("coupling")
     if coupling:
         row["coupling.iterations_mean"] = coupling.get("iterations_mean")
@@ -163,6 +184,8 @@ def sweep(
         base: the scenario (dict, path, TOML text or None for the embedded default).
         vary: ``{"run.speed_kmh": [100, 200], "track.irregularity.seed": [1, 2]}``: dotted
             scenario keys and their values; the cases are their Cartesian product, in order.
+            ``train[2].speed_kmh`` is a key of the second of several trains (``[[train]]``);
+            the rows then also hold each train's maxima as ``train2.derail_factor_max``, …
         client: a ``dask.distributed.Client``: each case is one task on the cluster's
             workers (a lost worker's cases are run again elsewhere; a task that raises is
             retried ``retries`` times). Default None: the local cores, in threads.

@@ -19,6 +19,9 @@
 //!    2.5 km/h steps (1130 grid runs, moving forces, modes to 57 Hz) with the default
 //!    outputs, the resonance speeds and the refinement of the peaks: wall time, runs per
 //!    second, the runs of each kind and the bytes written.
+//! 8. The Tsing Ma meeting case (`tbi run --meeting`, two 8-coach trains, 64 wheelsets)
+//!    against the default case (one train, 32), both solvers: wall time per simulated
+//!    second, meeting over one train, and the co-simulations' sweeps per step.
 //!
 //! The bench case (1 and 2) is run `--repeat` times (default 3), the two solvers alternating,
 //! and each solver's figures come from its fastest run: on a shared machine the least
@@ -35,6 +38,8 @@
 //! that took k + 1 sweeps), `scale_monolithic_realtime_factor`,
 //! `scale_cosim_realtime_factor`, `growth` (rows of modes, coaches, solver, wall seconds
 //! per simulated second), `fe_modes_50_s`, `tsing_ma_wind_over_still_air`,
+//! `meeting_monolithic_over_one_train`, `meeting_cosim_over_one_train`,
+//! `one_train_cosim_iterations_per_step`, `meeting_cosim_iterations_per_step`,
 //! `sweep_tsing_ma_4_speeds_s`, `hslm_sweep_s`, `hslm_runs_per_s`, `hslm_grid_runs`,
 //! `hslm_resonance_runs`, `hslm_refined_runs`, `hslm_bytes_written`, and with them the conditions: `load_average_before` and
 //! `load_average_after` (the one-minute load average at the start and at the end, where the
@@ -188,6 +193,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     scale_and_growth(&args, &mut figures)?;
     tsing_ma_fe_and_wind(&args, &mut figures)?;
+    meeting_case(&args, &mut figures)?;
     design_checks(&args, &mut figures)?;
     write_figures(&args, figures, load_before)
 }
@@ -412,6 +418,44 @@ fn tsing_ma_fe_and_wind(
         "tsing_ma_wind_over_still_air".into(),
         (windy_wall / still_wall).into(),
     );
+    Ok(())
+}
+
+/// The Tsing Ma meeting case (two 8-coach trains, `tbi run --meeting`) against the default
+/// case (one train), both solvers: the cost per simulated second, meeting over one train,
+/// and the sweeps per step of each co-simulation.
+fn meeting_case(args: &BenchArgs, figures: &mut Figures) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::scenario::SolverKind;
+    let (one, two) = (Scenario::default_case(), Scenario::meeting_case());
+    // the FE modes cached in the process before any clock starts
+    crate::model::build(&one)?;
+    for solver in [SolverKind::Monolithic, SolverKind::Cosim] {
+        let name = solver.as_str();
+        let (w1, s1, r1) = measure(&one, solver, &args.out.join(format!("one-{name}")))?;
+        let (w2, s2, r2) = measure(&two, solver, &args.out.join(format!("meeting-{name}")))?;
+        let ratio = (w2 / s2) / (w1 / s1);
+        crate::say!(
+            "Tsing Ma, {name}: one train {:.3} s wall per simulated s, two trains meeting {:.3} (ratio {ratio:.2}; wheelsets 64 against 32)",
+            w1 / s1,
+            w2 / s2
+        );
+        figures.insert(format!("meeting_{name}_over_one_train"), ratio.into());
+        if let (Some(c1), Some(c2)) = (r1.coupling, r2.coupling) {
+            crate::say!(
+                "  sweeps per step: one train {:.2}, two trains {:.2}",
+                c1.iterations_mean,
+                c2.iterations_mean
+            );
+            figures.insert(
+                "one_train_cosim_iterations_per_step".into(),
+                c1.iterations_mean.into(),
+            );
+            figures.insert(
+                "meeting_cosim_iterations_per_step".into(),
+                c2.iterations_mean.into(),
+            );
+        }
+    }
     Ok(())
 }
 

@@ -21,11 +21,15 @@ pub fn main(args: ExportArgs) -> Result<(), Box<dyn std::error::Error>> {
     let scenario = crate::scenario::load(args.scenario.as_deref(), None, None)?;
     let version = FmiVersion::from_major(args.fmi_version)?;
     let e = export_scenario(&scenario, &args.out, version)?;
-    crate::say!(
-        "{}\n{}\n{}",
-        e.bridge.display(),
-        e.train.display(),
-        e.ssp.display()
-    );
+    let mut files = vec![
+        e.bridge.display().to_string(),
+        e.train.display().to_string(),
+    ];
+    files.extend(e.more_trains.iter().map(|t| t.path.display().to_string()));
+    if let Some((wind, _, _)) = &e.wind {
+        files.push(wind.display().to_string());
+    }
+    files.push(e.ssp.display().to_string());
+    crate::say!("{}", files.join("\n"));
     Ok(())
 }

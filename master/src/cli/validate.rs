@@ -40,10 +40,16 @@ pub struct ValidateArgs {
     pub quiet: bool,
 }
 
+/// The group of a `history.csv` column: a probe's (`mid.…`), a car body's (`veh3.…`, or
+/// `train2.veh3.…` of a later train), or a wheelset's.
 fn group_of(column: &str, probes: &[String]) -> &'static str {
+    let of_train = match column.strip_prefix("train") {
+        Some(rest) => rest.split_once('.').map_or(column, |(_, item)| item),
+        None => column,
+    };
     if probes.iter().any(|p| column.starts_with(&format!("{p}."))) {
         "deck"
-    } else if column.starts_with("veh") {
+    } else if of_train.starts_with("veh") {
         "car bodies"
     } else {
         "wheelsets"
@@ -173,4 +179,24 @@ fn plot_worst(path: &Path, runs: &[History], column: &str) -> Result<(), String>
         ],
         &t,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::group_of;
+
+    #[test]
+    fn columns_of_later_trains_fall_in_their_groups() {
+        let probes = vec!["mid".to_string(), "train9".to_string()];
+        for (column, group) in [
+            ("mid.torsion_rad", "deck"),
+            ("train9.vertical_displacement_m", "deck"),
+            ("veh2.lateral_acceleration_m_s2", "car bodies"),
+            ("train2.veh1.lateral_acceleration_m_s2", "car bodies"),
+            ("ws4.derail_factor", "wheelsets"),
+            ("train2.ws32.vertical_force_n", "wheelsets"),
+        ] {
+            assert_eq!(group_of(column, &probes), group, "{column}");
+        }
+    }
 }

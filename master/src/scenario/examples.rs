@@ -2,11 +2,16 @@
 //! `examples/`, embedded so that a user starts from them in any folder.
 
 /// (name, what it is, TOML).
-pub const EXAMPLES: [(&str, &str, &str); 2] = [
+pub const EXAMPLES: [(&str, &str, &str); 3] = [
     (
         "tsing-ma",
         "the paper's Tsing Ma case: 8 coaches at 70 km/h over the suspension bridge (the default)",
         super::DEFAULT_SCENARIO,
+    ),
+    (
+        "tsing-ma-meeting",
+        "two such trains meeting at mid main span, one per track (tbi run --meeting)",
+        super::MEETING_SCENARIO,
     ),
     (
         "psc-25m-hslm",
@@ -30,4 +35,15 @@ pub fn text(name: Option<&str>) -> Result<&'static str, Box<dyn std::error::Erro
             )
             .into()
         })
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_example_is_a_valid_scenario() {
+        for (name, _, text) in super::EXAMPLES {
+            crate::scenario::Scenario::from_toml(text, name, std::path::Path::new("."))
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+        }
+    }
 }

@@ -225,6 +225,61 @@ def test_a_local_sweep_equals_single_runs():
         assert row["steps"] == s["steps"]
 
 
+TWO_TRAINS = """name = "two-trains"
+[run]
+speed_kmh = 160.0
+dt_s = 0.002
+solver = "monolithic"
+free_vibration_s = 0.2
+[bridge]
+kind = "simply_supported"
+span_m = 40.0
+youngs_modulus_pa = 3.5e10
+inertia_vertical_m4 = 6.0
+inertia_lateral_m4 = 40.0
+shear_modulus_pa = 1.5e10
+torsion_constant_m4 = 12.0
+polar_inertia_kg_m = 2.0e5
+mass_per_length_kg_m = 1.8e4
+modes = 6
+[[bridge.track]]
+eccentricity_m = 2.05
+height_m = 1.25
+[[bridge.track]]
+eccentricity_m = -2.05
+height_m = 1.25
+[[train]]
+kind = "coach_27dof"
+track = 1
+[[train]]
+kind = "coach_27dof"
+track = 2
+direction = "backward"
+meet_at_x_m = 25.0
+[[probe]]
+name = "mid"
+x_m = 20.0
+"""
+
+
+def test_a_sweep_of_two_trains_varies_the_second_and_reports_both(tmp_path):
+    speeds = [120.0, 200.0]
+    rows = tbi.sweep(TWO_TRAINS, vary={"train[2].speed_kmh": speeds})
+    assert list(rows["train[2].speed_kmh"]) == speeds
+    for speed, (_, row) in zip(speeds, rows.iterrows()):
+        base, _ = tbi.as_dict(TWO_TRAINS)
+        base["train"][1]["speed_kmh"] = speed
+        s = tbi.run(base).summary
+        assert [t["speed_kmh"] for t in s["trains"]] == pytest.approx([160.0, speed])
+        for k, t in enumerate(s["trains"], start=1):
+            want = t["car_bodies"]["vertical_acceleration_max_m_s2"]
+            assert row[f"train{k}.vertical_acceleration_max_m_s2"] == want
+            assert row[f"train{k}.derail_factor_max"] == t["safety"]["derail_factor_max"]
+        assert row["mid.torsion_max_rad"] == s["probes"]["mid"]["torsion_max_rad"]
+    with pytest.raises(tbi.ScenarioError, match=r"train\[3\].*2 tables"):
+        tbi.sweep(TWO_TRAINS, vary={"train[3].speed_kmh": [100.0]})
+
+
 def without_wall_time(frame):
     return frame.drop(columns=["wall_time_s"]).reset_index(drop=True)
 

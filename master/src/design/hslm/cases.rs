@@ -54,7 +54,13 @@ impl Source {
             ),
         };
         // the checks of a scenario file first, with their messages
-        Scenario::from_toml(&bytes, &origin, &base_dir).map_err(|e| e.to_string())?;
+        let checked = Scenario::from_toml(&bytes, &origin, &base_dir).map_err(|e| e.to_string())?;
+        if !checked.more_trains.is_empty() {
+            return Err(format!(
+                "{origin}: field `train` = {} trains: --trains runs each HSLM train alone in place of the scenario's train (EN 1991-2 §6.4.6.1.2 loads one track); give a scenario with one [train]",
+                1 + checked.more_trains.len()
+            ));
+        }
         let table: toml::Table = bytes.parse().map_err(|e| format!("{origin}: {e}"))?;
         let name = table
             .get("name")
