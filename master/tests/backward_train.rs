@@ -16,16 +16,30 @@
 mod cli_support;
 
 use cli_support::{run, span_40m, Scenario, TIGHT_COUPLING};
-use tbi_tests::{assert_same_table, require_fmu_libraries, scratch};
+use tbi_tests::{assert_same_table, require_fmu_libraries, scratch, Table};
 
 /// A 40 m span (vertical, lateral and torsional modes), one Xia coach at 120 km/h on an
 /// ideal track at eccentricity `e`, probes at 10, 20 and 30 m.
 fn scenario(e: f64, direction: &str) -> Scenario {
-    with_train(
-        e,
-        direction,
-        "kind = \"coach_27dof\"\npreset = \"xia2000\"\nvehicles = 1",
-    )
+    with_train(e, direction, COACH)
+}
+
+/// One Xia coach.
+const COACH: &str = "kind = \"coach_27dof\"\npreset = \"xia2000\"\nvehicles = 1";
+
+/// The monolithic histories of `train` running forward with the track at e = 1.2 m and
+/// backward with it at −1.2 m: the same system turned end for end.
+fn forward_and_backward(label: &str, train: &str) -> (Table, Table) {
+    let dir = scratch(label);
+    let forward = with_train(1.2, "forward", train).write(&dir, "forward.toml");
+    let backward = with_train(-1.2, "backward", train).write(&dir, "backward.toml");
+    let f = run(&forward, "monolithic", &dir.join("f"), &[]);
+    f.expect_ok("forward");
+    let b = run(&backward, "monolithic", &dir.join("b"), &[]);
+    b.expect_ok("backward");
+    let (f, b) = (f.history(), b.history());
+    assert_eq!(f.rows.len(), b.rows.len());
+    (f, b)
 }
 
 /// [`scenario`] with the train `train` (its `[train]` keys but the direction).
@@ -92,16 +106,8 @@ const DECK: [(&str, f64); 5] = [
 /// is thousands of times larger against it (measured: 6e-12).
 #[test]
 fn backward_moving_forces_mirror_the_forward_run_to_1e_12() {
-    let dir = scratch("backward-symmetry-forces");
     let axles = "kind = \"moving_force\"\naxles = [{ offset_m = 0.0, load_n = 2.0e5 }, { offset_m = 3.0, load_n = 1.5e5 }, { offset_m = 11.0, load_n = 1.8e5 }]";
-    let forward = with_train(1.2, "forward", axles).write(&dir, "forward.toml");
-    let backward = with_train(-1.2, "backward", axles).write(&dir, "backward.toml");
-    let f = run(&forward, "monolithic", &dir.join("f"), &[]);
-    f.expect_ok("forward");
-    let b = run(&backward, "monolithic", &dir.join("b"), &[]);
-    b.expect_ok("backward");
-    let (f, b) = (f.history(), b.history());
-    assert_eq!(f.rows.len(), b.rows.len());
+    let (f, b) = forward_and_backward("backward-symmetry-forces", axles);
     for (p, q) in MIRRORED_PROBES {
         // moving forces are vertical: no lateral response to mirror
         for (quantity, sign) in DECK.iter().filter(|d| !d.0.starts_with("lateral")) {
@@ -121,15 +127,7 @@ fn backward_moving_forces_mirror_the_forward_run_to_1e_12() {
 
 #[test]
 fn a_backward_run_is_the_forward_run_turned_end_for_end() {
-    let dir = scratch("backward-symmetry");
-    let forward = scenario(1.2, "forward").write(&dir, "forward.toml");
-    let backward = scenario(-1.2, "backward").write(&dir, "backward.toml");
-    let f = run(&forward, "monolithic", &dir.join("f"), &[]);
-    f.expect_ok("forward");
-    let b = run(&backward, "monolithic", &dir.join("b"), &[]);
-    b.expect_ok("backward");
-    let (f, b) = (f.history(), b.history());
-    assert_eq!(f.rows.len(), b.rows.len());
+    let (f, b) = forward_and_backward("backward-symmetry", COACH);
     let mut checked = 0;
     let mut check = |ours: &str, theirs: &str, sign: f64| {
         let d = mismatch(&f.column(ours), &b.column(theirs), sign);
