@@ -8,8 +8,8 @@
 //! * **Co-simulation ≡ monolithic** with two train FMUs of coaches (one running backward,
 //!   with hunting, on an irregular track) to 1e-8 per column.
 //! * Refusals, each naming the field: a track that does not exist, two trains on one track
-//!   running towards each other or overlapping at the start, `[[bridge.track]]` beside
-//!   `track_eccentricity_m`, two ways of placing one train.
+//!   running towards each other, overlapping at the start or running into each other
+//!   later, `[[bridge.track]]` beside `track_eccentricity_m`, two ways of placing one train.
 
 mod cli_support;
 
@@ -208,6 +208,16 @@ fn impossible_trains_are_refused_naming_the_field() {
         &format!("{}{follower}", FORCES[0]),
         "train[2].track",
         "overlap on this track at t = 0",
+    );
+    // a faster train 30 m behind on the same track catches up with the first
+    let faster = FORCES[0]
+        .replace("start_x_m = 0.0", "start_x_m = -30.0")
+        .replace("speed_kmh = 200.0", "speed_kmh = 400.0");
+    refused(
+        "catching-up",
+        &format!("{}{faster}", FORCES[0]),
+        "train[2].track",
+        "would run into each other on this track",
     );
     refused(
         "placed-twice",
