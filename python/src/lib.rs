@@ -153,9 +153,14 @@ fn design_check(
     Ok(done)
 }
 
-/// Export a scenario's FMUs and SSP into `out` (as `tbi export`); their paths.
+/// The paths an export wrote: the bridge FMU, every train FMU, the wind FMU (in a turbulent
+/// wind) and the SSP.
+type Written = (String, Vec<String>, Option<String>, String);
+
+/// Export a scenario's FMUs and SSP into `out` (as `tbi export --fmi-version V`); their
+/// paths.
 #[pyfunction]
-#[pyo3(signature = (out, path=None, text=None, origin="<string>", base_dir="."))]
+#[pyo3(signature = (out, path=None, text=None, origin="<string>", base_dir=".", fmi_version=2))]
 fn export(
     py: Python<'_>,
     out: String,
@@ -163,15 +168,22 @@ fn export(
     text: Option<String>,
     origin: &str,
     base_dir: &str,
-) -> PyResult<(String, String, String)> {
+    fmi_version: u8,
+) -> PyResult<Written> {
     let origin = origin.to_owned();
     let base_dir = base_dir.to_owned();
     Ok(py.allow_threads(move || -> Result<_, Failure> {
+        let version = tbi::fmus::export::FmiVersion::from_major(fmi_version)
+            .map_err(|e| Failure::Scenario(format!("fmi_version: {e}")))?;
         let s = load(path.as_deref(), text.as_deref(), &origin, &base_dir, None)?;
-        let e = tbi::fmus::export::export_scenario(&s, Path::new(&out), Default::default())
-            .map_err(classify)?;
+        let e =
+            tbi::fmus::export::export_scenario(&s, Path::new(&out), version).map_err(classify)?;
         let show = |p: &Path| p.display().to_string();
-        Ok((show(&e.bridge), show(&e.train), show(&e.ssp)))
+        let trains = std::iter::once(show(&e.train))
+            .chain(e.more_trains.iter().map(|t| show(&t.path)))
+            .collect();
+        let wind = e.wind.as_ref().map(|w| show(&w.0));
+        Ok((show(&e.bridge), trains, wind, show(&e.ssp)))
     })?)
 }
 

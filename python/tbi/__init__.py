@@ -205,15 +205,23 @@ def _summary(scenario, solver=None, base_dir=None):
     return _in_temporary_folder(_source(scenario, base_dir), solver, _read_summary)
 
 
-def export(scenario=None, out="."):
+def export(scenario=None, out=".", fmi_version=2):
     """Export a scenario's ``bridge.fmu``, ``train.fmu`` and ``system.ssp`` into ``out``
-    (as ``tbi export``); their paths as a dict ``{"bridge", "train", "ssp"}``.
+    (as ``tbi export``); their paths as a dict ``{"bridge", "train", "ssp"}``, with
+    ``"trains"`` (every train's FMU: ``train.fmu``, ``train2.fmu``, … for a scenario of
+    several trains) and ``"wind"`` (``wind.fmu`` in a turbulent wind, else absent).
 
-    The FMUs are FMI 2.0 Co-Simulation FMUs; ``fmpy.simulate_fmu`` runs them in the same
-    process.
+    ``fmi_version``: 2 (default) for FMI 2.0 Co-Simulation FMUs, 3 for FMI 3.0 ones (as
+    ``tbi export --fmi-version 3``). ``fmpy.simulate_fmu`` runs either in the same process.
     """
-    bridge, train, ssp = _native.export(os.fspath(out), **_source(scenario))
-    return {"bridge": Path(bridge), "train": Path(train), "ssp": Path(ssp)}
+    bridge, trains, wind, ssp = _native.export(
+        os.fspath(out), fmi_version=fmi_version, **_source(scenario)
+    )
+    paths = {"bridge": Path(bridge), "train": Path(trains[0]), "ssp": Path(ssp)}
+    paths["trains"] = [Path(t) for t in trains]
+    if wind is not None:
+        paths["wind"] = Path(wind)
+    return paths
 
 
 def modes(scenario=None):

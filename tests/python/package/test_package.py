@@ -107,7 +107,9 @@ def test_default_scenario_export_and_modes(tmp_path):
     assert done.returncode == 0
     assert tbi.default_scenario() == tomllib.loads(done.stdout)
     paths = tbi.export(DATA / "yang-yau.toml", out=tmp_path)
-    assert sorted(p.name for p in paths.values()) == ["bridge.fmu", "system.ssp", "train.fmu"]
+    assert sorted(paths) == ["bridge", "ssp", "train", "trains"]
+    assert [paths[k].name for k in ("bridge", "train", "ssp")] == ["bridge.fmu", "train.fmu", "system.ssp"]
+    assert paths["trains"] == [paths["train"]]
     import fmpy
 
     result = fmpy.simulate_fmu(str(paths["bridge"]), stop_time=0.01)
@@ -116,6 +118,25 @@ def test_default_scenario_export_and_modes(tmp_path):
     assert list(m.columns) == ["mode", "label", "frequency_hz", "damping_ratio"]
     summary = tbi.run(DATA / "yang-yau.toml", solver="monolithic").summary
     assert m["frequency_hz"].tolist() == summary["bridge"]["frequencies_hz"]
+
+
+def test_export_of_two_trains_as_fmi3_gives_every_fmu(tmp_path):
+    import fmpy
+
+    paths = tbi.export(TWO_TRAINS, out=tmp_path / "fmus", fmi_version=3)
+    assert [p.name for p in paths["trains"]] == ["train.fmu", "train2.fmu"]
+    for fmu in [paths["bridge"], *paths["trains"]]:
+        assert fmpy.read_model_description(str(fmu)).fmiVersion == "3.0", fmu
+    # the command line writes the same FMUs (the same instantiation tokens)
+    (tmp_path / "two.toml").write_text(TWO_TRAINS)
+    done = cli("export", tmp_path / "two.toml", "--fmi-version", "3", "--out", tmp_path / "cli")
+    assert done.returncode == 0, done.stderr
+    for fmu in [paths["bridge"], *paths["trains"]]:
+        ours = fmpy.read_model_description(str(fmu)).guid
+        theirs = fmpy.read_model_description(str(tmp_path / "cli" / fmu.name)).guid
+        assert ours == theirs, fmu.name
+    with pytest.raises(tbi.ScenarioError, match="fmi_version"):
+        tbi.export(TWO_TRAINS, out=tmp_path / "bad", fmi_version=4)
 
 
 def test_bad_scenarios_raise_scenario_error_with_the_cli_message(tmp_path):
