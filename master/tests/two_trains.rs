@@ -174,6 +174,36 @@ irregularity = { spectrum = "fra-5", seed = 7 }
     );
 }
 
+/// A train entering later (`enter_time_s`) and one accelerating: `summary.json`'s `trains[]`
+/// says when each reaches and leaves the deck, as their kinematics give it (to 1e-9 s).
+#[test]
+fn the_summary_says_when_each_train_is_on_the_deck() {
+    let dir = scratch("two-trains-times");
+    let first = FORCES[0].replace(
+        "start_x_m = 0.0",
+        "accelerating = { from_x_m = 10.0, acceleration_m_s2 = 2.0, to_speed_kmh = 250.0 }",
+    );
+    let second = FORCES[1].replace("start_x_m = 52.0", "enter_time_s = 0.5");
+    let s = scenario(&[&first, &second]).write(&dir, "times.toml");
+    let r = run(&s, "monolithic", &dir.join("out"), &[]);
+    r.expect_ok("times");
+    let trains = r.summary()["trains"].clone();
+    let at = |k: usize, key: &str| trains[k][key].as_f64().unwrap();
+    // train 1: 200 km/h to x = 10 m, then 2 m/s² until its last axle (20 m behind) leaves
+    // the 40 m span: s = 10 + v₀ u + u²/2 · 2 = 60 m (250 km/h is not reached)
+    let v0 = 200.0 / 3.6;
+    let u = (-v0 + (v0 * v0 + 2.0 * 2.0 * 50.0_f64).sqrt()) / 2.0;
+    assert!(v0 + 2.0 * u < 250.0 / 3.6);
+    assert!((at(0, "enters_deck_s") - 0.0).abs() < 1e-9);
+    assert!((at(0, "leaves_deck_s") - (10.0 / v0 + u)).abs() < 1e-9);
+    // train 2: at the deck end at 0.5 s, its last axle (3 m behind) off the start 43 m on
+    let v = 150.0 / 3.6;
+    assert!((at(1, "enters_deck_s") - 0.5).abs() < 1e-9);
+    assert!((at(1, "leaves_deck_s") - (0.5 + 43.0 / v)).abs() < 1e-9);
+    assert_eq!(trains[1]["direction"], "backward");
+    assert_eq!(trains[0]["speed_change"]["rate_m_s2"], 2.0);
+}
+
 /// `tbi run` of the scenario with these trains fails naming `field` and saying `why`.
 fn refused(label: &str, trains: &str, field: &str, why: &str) {
     let dir = scratch(&format!("two-trains-refused-{label}"));
