@@ -24,19 +24,21 @@ fn probe_max(s: &Summary, key: fn(&ProbeMax) -> f64) -> f64 {
 /// The paper's speeds, km/h.
 pub const PAPER_SPEEDS: [f64; 4] = [20.0, 40.0, 70.0, 120.0];
 
-/// Table 2 of Xia, Xu & Chan (2000) and how each row is read from a summary.
+/// Table 2 of Xia, Xu & Chan (2000) and how each row is read from a summary, in the units
+/// of the short summary (displacements in mm, accelerations in m/s²; the paper's cm and
+/// cm/s² converted).
 pub const TABLE2: [Row; 8] = [
     Row {
         name: "Deck vertical displacement",
-        unit: "cm",
-        paper: [49.39, 49.52, 51.29, 54.04],
-        value: |s| 100.0 * probe_max(s, |p| p.vertical_displacement_max_m),
+        unit: "mm",
+        paper: [493.9, 495.2, 512.9, 540.4],
+        value: |s| 1000.0 * probe_max(s, |p| p.vertical_displacement_max_m),
     },
     Row {
         name: "Deck vertical acceleration",
-        unit: "cm/s²",
-        paper: [0.0845, 0.332, 0.878, 3.156],
-        value: |s| 100.0 * probe_max(s, |p| p.vertical_acceleration_max_m_s2),
+        unit: "m/s²",
+        paper: [0.000845, 0.00332, 0.00878, 0.03156],
+        value: |s| probe_max(s, |p| p.vertical_acceleration_max_m_s2),
     },
     Row {
         name: "Deck lateral displacement",
@@ -46,28 +48,28 @@ pub const TABLE2: [Row; 8] = [
     },
     Row {
         name: "Deck lateral acceleration",
-        unit: "cm/s²",
-        paper: [0.931, 1.097, 1.298, 2.234],
-        value: |s| 100.0 * probe_max(s, |p| p.lateral_acceleration_max_m_s2),
+        unit: "m/s²",
+        paper: [0.00931, 0.01097, 0.01298, 0.02234],
+        value: |s| probe_max(s, |p| p.lateral_acceleration_max_m_s2),
     },
     Row {
         name: "Vehicle vertical acceleration",
-        unit: "cm/s²",
-        paper: [12.96, 31.85, 48.29, 74.31],
+        unit: "m/s²",
+        paper: [0.1296, 0.3185, 0.4829, 0.7431],
         value: |s| {
             s.vehicles
                 .as_ref()
-                .map_or(f64::NAN, |v| 100.0 * v.vertical_acceleration_max_m_s2)
+                .map_or(f64::NAN, |v| v.vertical_acceleration_max_m_s2)
         },
     },
     Row {
         name: "Vehicle lateral acceleration",
-        unit: "cm/s²",
-        paper: [19.01, 38.19, 40.05, 51.92],
+        unit: "m/s²",
+        paper: [0.1901, 0.3819, 0.4005, 0.5192],
         value: |s| {
             s.vehicles
                 .as_ref()
-                .map_or(f64::NAN, |v| 100.0 * v.lateral_acceleration_max_m_s2)
+                .map_or(f64::NAN, |v| v.lateral_acceleration_max_m_s2)
         },
     },
     Row {
@@ -129,6 +131,15 @@ pub fn main(
     Ok(())
 }
 
+/// `x` to five significant digits (a value in mm and one in m/s² both keep their digits).
+fn significant(x: f64) -> String {
+    if !x.is_finite() || x == 0.0 {
+        return format!("{x}");
+    }
+    let decimals = (4 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    format!("{x:.decimals$}")
+}
+
 /// Table 2 as Markdown and CSV: ours, the paper's value at the same speed, and the ratio.
 pub fn tables(speeds: &[f64], summaries: &[Summary]) -> (String, String) {
     let mut md = String::from("| Response | Unit |");
@@ -155,11 +166,11 @@ pub fn tables(speeds: &[f64], summaries: &[Summary]) -> (String, String) {
                 .map(|i| row.paper[i]);
             match paper {
                 Some(p) => {
-                    let _ = write!(md, " {ours:.4} | {p} | {:.2} |", ours / p);
+                    let _ = write!(md, " {} | {p} | {:.2} |", significant(ours), ours / p);
                     let _ = write!(csv, ",{ours},{p},{}", ours / p);
                 }
                 None => {
-                    let _ = write!(md, " {ours:.4} | – | – |");
+                    let _ = write!(md, " {} | – | – |", significant(ours));
                     let _ = write!(csv, ",{ours},,");
                 }
             }
