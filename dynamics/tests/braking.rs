@@ -164,3 +164,31 @@ fn a_braking_coach_settles_to_the_static_balance_of_its_inertia() {
         "wheel-load moment {moment:e} N·m against {want:e} N·m"
     );
 }
+
+/// A description whose speed change cannot end where it says (as a train FMU whose `speed`
+/// parameter was set past its braking's final speed) does not build, and says why.
+#[test]
+fn a_speed_change_that_cannot_end_where_it_says_does_not_build() {
+    use tbi_dynamics::train::{Speed, TrainDescription, TrainSpec};
+    let mut d = TrainDescription {
+        spec: TrainSpec::Coaches {
+            params: CoachParams::xia2000(),
+            count: 1,
+        },
+        speed_m_s: Speed::from_m_s(20.0).unwrap(),
+        x0_m: 0.0,
+        direction: Default::default(),
+        track: 0,
+        change: Some(SpeedChange {
+            from_x_m: 5.0,
+            rate_m_s2: -1.0,
+            to_speed_m_s: 10.0,
+        }),
+        hunting: Default::default(),
+        crosswind: None,
+    };
+    assert!(d.build(0.0).is_ok());
+    d.speed_m_s = Speed::from_m_s(8.0).unwrap();
+    let e = d.build(0.0).unwrap_err();
+    assert!(e.contains("cannot end at 10 m/s"), "{e}");
+}

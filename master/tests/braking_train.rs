@@ -102,3 +102,26 @@ fn a_braking_that_stops_the_train_on_the_deck_must_say_so() {
         r.stderr
     );
 }
+
+/// The car bodies' wind loads take a constant speed: a wind on a braking train is refused,
+/// naming the braking.
+#[test]
+fn a_wind_on_a_braking_train_is_refused() {
+    let dir = scratch("braking-wind");
+    let s = scenario(
+        120.0,
+        "{ from_x_m = 5.0, deceleration_m_s2 = 2.5, to_speed_kmh = 60.0 }",
+    )
+    .set("wind", "mean_speed_m_s", 10.0)
+    .write(&dir, "windy.toml");
+    let text = std::fs::read_to_string(&s).unwrap();
+    let deck = "[wind.deck]\nwidth_m = 10.0\ndrag = 1.0\nlift = 0.1\nmoment = 0.01\n";
+    std::fs::write(&s, format!("{text}{deck}")).unwrap();
+    let r = run(&s, "monolithic", &dir.join("out"), &[]);
+    assert_eq!(r.status.code(), Some(1), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("train.braking") && r.stderr.contains("constant speed"),
+        "{}",
+        r.stderr
+    );
+}

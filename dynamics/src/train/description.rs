@@ -135,6 +135,27 @@ impl TrainDescription {
     /// [`Train`] is built from its description, for the monolithic solver and in the train
     /// FMU.
     pub fn build(&self, start_time: f64) -> Result<Train, String> {
+        if let Some(c) = &self.change {
+            let v0 = self.speed_m_s.m_s();
+            let reaches = match c.rate_m_s2 {
+                a if a < 0.0 => c.to_speed_m_s < v0,
+                a if a > 0.0 => c.to_speed_m_s > v0,
+                _ => false,
+            };
+            if !reaches
+                || !c.from_x_m.is_finite()
+                || c.to_speed_m_s.is_nan()
+                || c.to_speed_m_s < 0.0
+            {
+                return Err(format!(
+                    "the speed change from {v0} m/s at {} m/s² cannot end at {} m/s",
+                    c.rate_m_s2, c.to_speed_m_s
+                ));
+            }
+        }
+        if self.crosswind.is_some() && self.change.is_some() {
+            return Err("a crosswind on a train that changes its speed is not supported".into());
+        }
         let mut vehicles = self.spec.vehicles()?;
         if self.direction == TravelDirection::Backward {
             if self.crosswind.is_some() {

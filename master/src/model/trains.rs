@@ -58,6 +58,19 @@ pub(super) fn trains(s: &Scenario, bridge: &ModalBridge) -> Result<Trains, Input
             bridge.x_end_m
         };
         let v0 = speed.m_s();
+        if let (Some(c), Some(_)) = (&t.change, &s.wind) {
+            let key = if c.rate_m_s2 < 0.0 {
+                "braking"
+            } else {
+                "accelerating"
+            };
+            return Err(err(
+                k,
+                key,
+                "(set)".into(),
+                "a wind on a train that changes its speed is not supported: the car bodies' wind loads take a constant speed".into(),
+            ));
+        }
         if let Some(c) = &t.change {
             let (key, wrong) = match c.rate_m_s2 < 0.0 {
                 true => ("braking", c.to_speed_m_s >= v0),
