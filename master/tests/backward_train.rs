@@ -15,7 +15,7 @@
 
 mod cli_support;
 
-use cli_support::{run, span_40m, Scenario, TIGHT_COUPLING};
+use cli_support::{run, span_40m, Scenario, PROBES_40M, TIGHT_COUPLING};
 use tbi_tests::{assert_same_table, require_fmu_libraries, scratch, Table};
 
 /// A 40 m span (vertical, lateral and torsional modes), one Xia coach at 120 km/h on an
@@ -56,16 +56,7 @@ free_vibration_s = 0.3
 {bridge}[train]
 {train}
 direction = "{direction}"
-[[probe]]
-name = "p10"
-x_m = 10.0
-[[probe]]
-name = "p20"
-x_m = 20.0
-[[probe]]
-name = "p30"
-x_m = 30.0
-{TIGHT_COUPLING}"#
+{PROBES_40M}{TIGHT_COUPLING}"#
     ))
 }
 

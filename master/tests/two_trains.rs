@@ -13,25 +13,16 @@
 
 mod cli_support;
 
-use cli_support::{run, span_40m, Scenario, TIGHT_COUPLING};
+use cli_support::{run, span_40m, Scenario, PROBES_40M, TIGHT_COUPLING};
 use tbi_tests::{assert_same_table, require_fmu_libraries, scratch, Table};
 
-/// Two tracks at ±2.05 m (on [`span_40m`]), and the probes.
+/// Two tracks at ±2.05 m (on [`span_40m`]).
 const TRACKS: &str = r#"[[bridge.track]]
 eccentricity_m = 2.05
 height_m = 1.25
 [[bridge.track]]
 eccentricity_m = -2.05
 height_m = 1.25
-[[probe]]
-name = "p10"
-x_m = 10.0
-[[probe]]
-name = "p20"
-x_m = 20.0
-[[probe]]
-name = "p30"
-x_m = 30.0
 "#;
 
 /// Train 1: four axles forward at 200 km/h on track 1 from the deck start; train 2: two
@@ -59,7 +50,7 @@ start_x_m = 52.0
 /// A scenario of `trains` on the bridge.
 fn scenario(trains: &[&str]) -> Scenario {
     let head = "name = \"two\"\n[run]\ndt_s = 0.002\nfree_vibration_s = 0.3\n";
-    let bridge = span_40m(TRACKS);
+    let bridge = span_40m(&format!("{TRACKS}{PROBES_40M}"));
     Scenario::parse(&format!(
         "{head}{bridge}{TIGHT_COUPLING}{}",
         trains.concat()

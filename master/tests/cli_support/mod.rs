@@ -158,3 +158,15 @@ rtol = 1e-12
 atol = 1e-12
 on_non_convergence = "stop"
 "#;
+
+/// Probes at the quarter points and midspan of [`span_40m`]: `p10`, `p20`, `p30`.
+pub const PROBES_40M: &str = r#"[[probe]]
+name = "p10"
+x_m = 10.0
+[[probe]]
+name = "p20"
+x_m = 20.0
+[[probe]]
+name = "p30"
+x_m = 30.0
+"#;
