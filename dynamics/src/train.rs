@@ -82,6 +82,14 @@ impl TravelDirection {
         *self == TravelDirection::Forward
     }
 
+    /// `"forward"` or `"backward"`, as the scenario writes it.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TravelDirection::Forward => "forward",
+            TravelDirection::Backward => "backward",
+        }
+    }
+
     /// `+1` forward, `−1` backward.
     pub fn sign(self) -> f64 {
         match self {
@@ -173,9 +181,7 @@ impl TrainRun {
         let Some(c) = &self.change else {
             return steady;
         };
-        // where the change begins, as a distance travelled (at once if behind the start)
-        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
-        let t1 = if v0 > 0.0 { s1 / v0 } else { 0.0 };
+        let (s1, t1) = self.change_begins(c);
         if tau <= t1 || c.rate_m_s2 == 0.0 {
             return steady;
         }
@@ -200,7 +206,12 @@ impl TrainRun {
     /// Position of a wheelset at offset `offset_m` at time `t`, m.
     #[inline]
     pub fn x_at(&self, offset_m: f64, t: f64) -> f64 {
-        let s = self.travel(t).s_m;
+        self.x_after(self.travel(t).s_m, offset_m)
+    }
+
+    /// Position of a wheelset at offset `offset_m` once the first axle has travelled `s`, m.
+    #[inline]
+    pub fn x_after(&self, s: f64, offset_m: f64) -> f64 {
         match self.direction {
             TravelDirection::Forward => self.x0_m + s - offset_m,
             TravelDirection::Backward => self.x0_m - s + offset_m,
@@ -233,11 +244,10 @@ impl TrainRun {
         let Some(c) = self.change.as_ref().filter(|c| c.rate_m_s2 != 0.0) else {
             return steady(s);
         };
-        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
+        let (s1, t1) = self.change_begins(c);
         if s <= s1 {
             return steady(s);
         }
-        let t1 = if v0 > 0.0 { s1 / v0 } else { 0.0 };
         let a = c.rate_m_s2;
         let u2 = (c.to_speed_m_s - v0) / a;
         let s2 = s1 + v0 * u2 + 0.5 * a * u2 * u2;
@@ -250,27 +260,23 @@ impl TrainRun {
         (c.to_speed_m_s > 0.0).then(|| self.t0_s + t1 + u2 + (s - s2) / c.to_speed_m_s)
     }
 
-    /// The distance the first axle travels in all, m (∞ unless it stops).
-    pub fn total_travel(&self) -> f64 {
-        match self.stop_time() {
-            Some(t) => self.travel(t).s_m,
-            None => f64::INFINITY,
-        }
-    }
-
     /// The time the speed reaches zero and stays there (None: it never stops), s.
     pub fn stop_time(&self) -> Option<f64> {
         let c = self.change.as_ref()?;
         if c.to_speed_m_s > 0.0 || c.rate_m_s2 >= 0.0 {
             return None;
         }
-        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
-        let t1 = if self.speed_m_s > 0.0 {
-            s1 / self.speed_m_s
-        } else {
-            0.0
-        };
+        let t1 = self.change_begins(c).1;
         Some(self.t0_s + t1 - self.speed_m_s / c.rate_m_s2)
+    }
+
+    /// Where the change `c` begins, as the distance the first axle has travelled (at once
+    /// when the train starts past `from_x_m`), and when, after `t0_s`.
+    #[inline]
+    fn change_begins(&self, c: &SpeedChange) -> (f64, f64) {
+        let s1 = (self.direction.sign() * (c.from_x_m - self.x0_m)).max(0.0);
+        let v0 = self.speed_m_s;
+        (s1, if v0 > 0.0 { s1 / v0 } else { 0.0 })
     }
 }
 

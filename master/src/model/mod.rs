@@ -5,6 +5,8 @@ pub mod modes;
 pub mod suspension;
 mod trains;
 
+pub(crate) use trains::first_time;
+
 use crate::scenario::{Bridge, ModalOptions, Scenario};
 use crate::text::num;
 use std::sync::Arc;

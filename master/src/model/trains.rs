@@ -280,18 +280,25 @@ fn catches_up(a: &Train, b: &Train, t_end: f64) -> Option<(f64, f64)> {
     for k in 1..=n {
         let t = t_end * k as f64 / n as f64;
         if gap(t) <= 0.0 {
-            let (mut lo, mut hi) = (before, t);
-            for _ in 0..100 {
-                let mid = 0.5 * (lo + hi);
-                if gap(mid) > 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            return Some((hi, follow.x_at(0.0, hi)));
+            let hit = first_time(|t| gap(t) <= 0.0, before, t);
+            return Some((hit, follow.x_at(0.0, hit)));
         }
         before = t;
     }
     None
+}
+
+/// The first time in `[lo, hi]` at which `reached` holds, `reached` false at `lo`, true at
+/// `hi` and staying true once it holds (a gap between two trains closing): bisected to the
+/// resolution of f64.
+pub(crate) fn first_time(reached: impl Fn(f64) -> bool, mut lo: f64, mut hi: f64) -> f64 {
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if reached(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
 }

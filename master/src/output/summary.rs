@@ -377,13 +377,12 @@ fn train_lines(s: &Summary) -> Vec<String> {
     let mut out = Vec::new();
     for r in &s.trains {
         let mut line = format!(
-            "  train {}: track {}, {:?} at {} km/h",
+            "  train {}: track {}, {} at {} km/h",
             r.train,
             r.track,
-            r.direction,
+            r.direction.as_str(),
             crate::text::num(r.speed_kmh)
-        )
-        .to_lowercase();
+        );
         if let Some(c) = &r.speed_change {
             line += &format!(
                 ", {} at {} m/s² from x = {} m to {} km/h",

@@ -129,18 +129,10 @@ pub fn meetings(model: &Model) -> Vec<Meeting> {
             }
             // the forward train's first axle ahead of the backward one's: gap > 0
             let gap = |t: f64| a.direction.sign() * (a.x_at(0.0, t) - b.x_at(0.0, t));
-            let (mut lo, mut hi) = (0.0, t_end);
-            if gap(lo) > 0.0 || gap(hi) < 0.0 {
+            if gap(0.0) > 0.0 || gap(t_end) < 0.0 {
                 continue;
             }
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if gap(mid) < 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
+            let hi = crate::model::first_time(|t| gap(t) >= 0.0, 0.0, t_end);
             let x = a.x_at(0.0, hi);
             if model.bridge.on_deck(x) {
                 out.push(Meeting {

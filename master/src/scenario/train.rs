@@ -114,58 +114,46 @@ impl Check<'_> {
     }
 
     /// `train.braking` or `train.accelerating` as a speed change, and whether its final speed
-    /// was given.
+    /// was given (braking may leave it out: to a stop). Whether the final speed lies beyond
+    /// the starting speed is checked with the trains, where that is known.
     fn speed_change(&self, t: &FileTrain) -> Result<(Option<SpeedChange>, bool), InputError> {
-        match (&t.braking, &t.accelerating) {
-            (Some(_), Some(_)) => Err(self.err(
-                "train.accelerating",
-                "(set)",
-                "give braking or accelerating, not both",
-            )),
-            (Some(b), None) => {
-                self.finite("train.braking.from_x_m", b.from_x_m)?;
-                let a = self.within(
-                    "train.braking.deceleration_m_s2",
-                    b.deceleration_m_s2,
-                    (1e-3, 10.0),
-                    "m/s²",
-                )?;
-                let to = match b.to_speed_kmh {
-                    Some(v) => self.to_speed("train.braking.to_speed_kmh", v)?,
-                    None => 0.0,
-                };
-                let change = SpeedChange {
-                    from_x_m: b.from_x_m,
-                    rate_m_s2: -a,
-                    to_speed_m_s: to,
-                };
-                Ok((Some(change), b.to_speed_kmh.is_some()))
+        let (key, from_x_m, (rate_key, rate), sign, to_kmh) = match (&t.braking, &t.accelerating) {
+            (Some(_), Some(_)) => {
+                return Err(self.err(
+                    "train.accelerating",
+                    "(set)",
+                    "give braking or accelerating, not both",
+                ))
             }
-            (None, Some(c)) => {
-                self.finite("train.accelerating.from_x_m", c.from_x_m)?;
-                let a = self.within(
-                    "train.accelerating.acceleration_m_s2",
-                    c.acceleration_m_s2,
-                    (1e-3, 10.0),
-                    "m/s²",
-                )?;
-                let to = self.to_speed("train.accelerating.to_speed_kmh", c.to_speed_kmh)?;
-                let change = SpeedChange {
-                    from_x_m: c.from_x_m,
-                    rate_m_s2: a,
-                    to_speed_m_s: to,
-                };
-                Ok((Some(change), true))
-            }
-            (None, None) => Ok((None, true)),
-        }
-    }
-
-    /// A final speed `v` km/h as m/s: 0 … the highest speed (whether it lies beyond the
-    /// starting speed is checked with the trains, where that is known).
-    fn to_speed(&self, field: &str, v: f64) -> Result<f64, InputError> {
-        self.within(field, v, (0.0, Speed::MAX_M_S * 3.6), "km/h")?;
-        Ok(v / 3.6)
+            (Some(b), None) => (
+                "braking",
+                b.from_x_m,
+                ("deceleration_m_s2", b.deceleration_m_s2),
+                -1.0,
+                b.to_speed_kmh,
+            ),
+            (None, Some(c)) => (
+                "accelerating",
+                c.from_x_m,
+                ("acceleration_m_s2", c.acceleration_m_s2),
+                1.0,
+                Some(c.to_speed_kmh),
+            ),
+            (None, None) => return Ok((None, true)),
+        };
+        self.finite(&format!("train.{key}.from_x_m"), from_x_m)?;
+        let field = format!("train.{key}.{rate_key}");
+        let a = self.within(&field, rate, (1e-3, 10.0), "m/s²")?;
+        let field = format!("train.{key}.to_speed_kmh");
+        let to_kmh = (to_kmh)
+            .map(|v| self.within(&field, v, (0.0, Speed::MAX_M_S * 3.6), "km/h"))
+            .transpose()?;
+        let change = SpeedChange {
+            from_x_m,
+            rate_m_s2: sign * a,
+            to_speed_m_s: to_kmh.unwrap_or(0.0) / 3.6,
+        };
+        Ok((Some(change), to_kmh.is_some()))
     }
 
     /// `train.vehicle`: the sprung mass under every axle of a `moving_force` or `hslm_a` train.

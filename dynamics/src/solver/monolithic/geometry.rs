@@ -66,8 +66,14 @@ impl Geometry {
     /// Every wheelset's position at `t`.
     pub(super) fn positions(&mut self, m: &Placement<'_>, t: f64) {
         self.t = t;
+        // each train's travel once, for its wheelsets (which follow one another)
+        let mut travelled = (usize::MAX, 0.0);
         for (x, ws) in self.x.iter_mut().zip(m.wheelsets) {
-            *x = m.train.x_of(ws, t);
+            let run = &m.train.runs[ws.run];
+            if travelled.0 != ws.run {
+                travelled = (ws.run, run.travel(t).s_m);
+            }
+            *x = run.x_after(travelled.1, ws.offset_m);
         }
     }
 

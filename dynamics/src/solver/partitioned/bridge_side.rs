@@ -134,12 +134,6 @@ impl BridgeSide {
         }
     }
 
-    /// The track of wheelset slot `w`.
-    #[inline]
-    fn track_of(&self, w: usize) -> usize {
-        self.tracks.get(w).copied().unwrap_or(0)
-    }
-
     /// Take the deck's turbulence from [`Self::deck_wind`] (set before each step) instead of
     /// generating it: the bridge FMU coupled to a wind FMU (nothing without buffeting).
     pub fn take_wind_from_inputs(&mut self) {
@@ -189,7 +183,7 @@ impl BridgeSide {
             on_deck.clear();
             for (w, wi) in inputs.iter().enumerate() {
                 if let Some(at) = c.sines_at(w, wi.x) {
-                    let k = self.tracks.get(w).copied().unwrap_or(0);
+                    let k = track_of(&self.tracks, w);
                     on_deck.push((at, self.bridge.deck_force_of_on(k, wi.f)));
                 }
             }
@@ -206,7 +200,7 @@ impl BridgeSide {
             ns.begin(n_nodes);
             for (w, wi) in inputs.iter().enumerate() {
                 if let (Some(st), _) = c.stencil(w, wi.x) {
-                    let k = self.tracks.get(w).copied().unwrap_or(0);
+                    let k = track_of(&self.tracks, w);
                     let g = self.bridge.deck_force_of_on(k, wi.f);
                     for j in 0..st.k {
                         let i = st.start + j;
@@ -339,7 +333,7 @@ impl BridgeSide {
                 if sines.is_some() {
                     let acc = deck.next().expect("a deck motion per wheelset on the deck");
                     for (d, rd) in r.iter_mut().enumerate() {
-                        let k = self.tracks.get(slot_of(w)).copied().unwrap_or(0);
+                        let k = track_of(&self.tracks, slot_of(w));
                         let acc = [acc[0][d], acc[1][d], acc[2][d]];
                         *rd += Vector3::from(self.bridge.rail_of_on(k, acc));
                     }
@@ -364,7 +358,7 @@ impl BridgeSide {
             let mut r = rail_motion(irregularity, wi.vx);
             if let Some(st) = st {
                 for (rd, d) in r.iter_mut().zip(ns.deck_motion(st)) {
-                    let k = self.tracks.get(slot_of(w)).copied().unwrap_or(0);
+                    let k = track_of(&self.tracks, slot_of(w));
                     *rd += Vector3::from(self.bridge.rail_of_on(k, d));
                 }
             }
@@ -405,7 +399,7 @@ impl BridgeSide {
         let mut dqdd = vec![0.0; nb];
         if initializing {
             for (w, (wi, si)) in inputs.iter().zip(seeds).enumerate() {
-                let k = self.track_of(w);
+                let k = track_of(&self.tracks, w);
                 if bridge.rail_shapes_on(k, wi.x, &mut psi) {
                     bridge.rail_shape_slopes_on(k, wi.x, &mut dpsi);
                     for n in 0..nb {
@@ -426,7 +420,7 @@ impl BridgeSide {
                 self.track.third_derivative(wi.x),
                 wi.vx,
             );
-            let k = self.track_of(w);
+            let k = track_of(&self.tracks, w);
             let on = bridge.rail_shapes_on(k, wi.x, &mut psi);
             if on {
                 bridge.rail_shape_slopes_on(k, wi.x, &mut dpsi);
@@ -457,4 +451,10 @@ impl BridgeSide {
         let shapes = c.probe(&self.bridge, self.omega.len(), x);
         ProbeValues::from_shapes(shapes, &self.state.q, &self.state.qdd)
     }
+}
+
+/// The track of wheelset slot `w` (0 beyond the list: an empty list is one track).
+#[inline]
+fn track_of(tracks: &[usize], w: usize) -> usize {
+    tracks.get(w).copied().unwrap_or(0)
 }

@@ -210,14 +210,19 @@ struct HuntingCache {
 }
 
 impl HuntingCache {
-    /// The hunting motion of each of the `n` wheelsets of `train` at time `t`.
-    fn at(&mut self, train: &Arc<Train>, n: usize, t: f64) -> &[[f64; 3]] {
+    /// The hunting motion of each of the `n` wheelsets of `train` (its `wheelsets`) at time `t`.
+    fn at(
+        &mut self,
+        train: &Arc<Train>,
+        wheelsets: &[WheelsetRef],
+        n: usize,
+        t: f64,
+    ) -> &[[f64; 3]] {
         let key = (t.to_bits(), Arc::as_ptr(train) as usize);
         if self.key != Some(key) || self.values.len() != n {
             self.values.clear();
-            let ws = train.wheelsets();
             (self.values).extend(
-                ws[..n]
+                wheelsets[..n]
                     .iter()
                     .map(|w| train.runs[w.run].hunting_at(w.in_run, t)),
             );
@@ -321,7 +326,7 @@ impl TrainSide {
     /// Static equilibrium at time `t` on the given rail motion (deck plus irregularity).
     pub fn initialize(&mut self, t: f64, rails: &[[Vector3<f64>; 3]]) {
         self.t = t;
-        let hunting = self.hunting.at(&self.train, rails.len(), t);
+        let hunting = (self.hunting).at(&self.train, &self.wheelsets, rails.len(), t);
         self.rails = (rails.iter().zip(hunting))
             .map(|(r, h)| add_hunting(r, h))
             .collect();
@@ -339,7 +344,7 @@ impl TrainSide {
     pub fn step(&mut self, h: f64, rails: &[[Vector3<f64>; 3]]) {
         let t1 = self.t + h;
         let nm = Newmark::new(h);
-        let hunting = self.hunting.at(&self.train, rails.len(), t1);
+        let hunting = (self.hunting).at(&self.train, &self.wheelsets, rails.len(), t1);
         for ((out, rail), h) in self.rails.iter_mut().zip(rails).zip(hunting) {
             *out = add_hunting(rail, h);
         }
